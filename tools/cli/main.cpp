@@ -1,2 +1,121 @@
+// xfdem: the command line.
+//
+//   xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N]
+//
+// Validates the whole scene (and every override) before stepping; writes the
+// CSV to a temporary file renamed into place only when the run succeeded, so a
+// failed run leaves no partial output. Exit codes: 0 success, 2 bad input
+// (usage, scene, override), 3 the stepper reported a status.
 #include <cstdio>
-int main() { std::puts("xfdem"); return 0; }
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "scene/runner.hpp"
+#include "scene/scene.hpp"
+#include "xfdem/version.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N]\n"
+    "       xfdem --version\n";
+
+int usage_error(const std::string& what) {
+  std::cerr << "xfdem: " << what << "\n" << kUsage;
+  return 2;
+}
+
+int run(int argc, char** argv) {
+  std::string scene_path, csv_path;
+  std::vector<std::string> overrides;
+  int threads = 1;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&](const char* flag) -> std::string {
+      if (i + 1 >= argc) throw xfdem::scene::SceneError(std::string(flag) + ": missing value");
+      return argv[++i];
+    };
+    if (arg == "--set") {
+      overrides.push_back(value("--set"));
+    } else if (arg == "--csv") {
+      csv_path = value("--csv");
+    } else if (arg == "--threads") {
+      const std::string t = value("--threads");
+      if (t != "1" && t != "2") throw xfdem::scene::SceneError("--threads: must be 1 or 2 (got '" + t + "')");
+      threads = std::stoi(t);
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw xfdem::scene::SceneError("unknown option '" + arg + "'");
+    } else if (scene_path.empty()) {
+      scene_path = arg;
+    } else {
+      throw xfdem::scene::SceneError("more than one scene file given ('" + scene_path + "', '" + arg + "')");
+    }
+  }
+  if (scene_path.empty()) throw xfdem::scene::SceneError("no scene file given");
+  const xfdem::scene::Scene scene = xfdem::scene::load_scene(scene_path, overrides);
+
+  std::ostringstream buffer;
+  xfdem::scene::RunSummary summary;
+  try {
+    summary = xfdem::scene::run_scene(scene, buffer, threads);
+  } catch (const xfdem::scene::SceneError& e) {
+    const std::string what = e.what();
+    std::cerr << "xfdem: " << what << "\n";
+    return what.rfind("step ", 0) == 0 ? 3 : 2;
+  }
+  if (csv_path.empty()) {
+    std::cout << buffer.str();
+  } else {
+    const std::string temporary = csv_path + ".partial";
+    {
+      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+      out << buffer.str();
+      if (!out) {
+        std::cerr << "xfdem: cannot write '" << temporary << "'\n";
+        std::remove(temporary.c_str());
+        return 2;
+      }
+    }
+    std::error_code ec;
+    std::filesystem::rename(temporary, csv_path, ec);
+    if (ec) {
+      std::cerr << "xfdem: cannot move output into '" << csv_path << "': " << ec.message() << "\n";
+      std::remove(temporary.c_str());
+      return 2;
+    }
+  }
+  std::fprintf(stderr, "xfdem: %s: %lld steps, wall %.3f s, mean %.3f us/step, worst %.3f us/step\n",
+               scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
+               summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage_error("no command given");
+  const std::string command = argv[1];
+  if (command == "--version") {
+    std::printf("xfdem %s\n", xfdem::version_string());
+    return 0;
+  }
+  if (command == "--help" || command == "-h") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (command != "run") return usage_error("unknown command '" + command + "'");
+  try {
+    return run(argc, argv);
+  } catch (const xfdem::scene::SceneError& e) {
+    std::cerr << "xfdem: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "xfdem: " << e.what() << "\n";
+    return 2;
+  }
+}

@@ -1,0 +1,276 @@
+// The DEM kernel: spheres (disks in 2D, rods on a line in 1D) with normal
+// spring-dashpot contacts, fixed planes, gravity, and five time integrators.
+//
+//   DemDesc<D>  --build_dem()-->  DemModel<D> (immutable) + DemState<D> + DemWorkspace<D>
+//   dem_step(model, state, workspace) -> StepStatus          (never allocates, throws or locks)
+//
+// Everything a step changes lives in DemState (plain data: copy it to snapshot);
+// DemWorkspace is scratch whose contents do not survive a step. Every array is
+// sized by build_dem(); capacities are fixed there and exceeding one is a
+// StepStatus flag, never a reallocation. Contact mechanics follow
+// shared/spec/paper-notes.md (full overlap, springs in series, damping ratio).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "xfdem/status.hpp"
+
+namespace xfdem {
+
+/// Time integrators for the particles. See docs/dem.md for order and stable step.
+enum class DemIntegrator : std::uint8_t {
+  /// Adams–Bashforth–Moulton 4, PECE, started by three RK4 steps (paper, appendix C).
+  abm4,
+  /// abm4 plus contact-event location: a step in which a contact starts or ends
+  /// is split at the event (located by bisection to ~1e-13 of the step), both
+  /// parts integrated by RK4 with the contact set frozen, and the multistep
+  /// history restarted. Meant for scenes with few particles.
+  abm4_events,
+  /// Velocity Verlet (kick-drift-kick), one force evaluation per step; the
+  /// dashpot sees the half-step velocity, as in LIGGGHTS.
+  verlet,
+  /// Symplectic (semi-implicit) Euler: v += h a(x, v); x += h v.
+  symplectic_euler,
+  /// Classical Runge–Kutta 4 (S3 evaluated at y_n + S2 h/2).
+  rk4,
+};
+
+/// Normal force law (paper-notes: eq 6 and its non-tensile variant).
+enum class ContactLaw : std::uint8_t {
+  /// F = K δ + η δ' while δ > 0 (the dashpot may pull at the end of a contact).
+  linear,
+  /// As linear, but the total normal force is clamped at zero (never attractive).
+  linear_nontensile,
+};
+
+const char* integrator_name(DemIntegrator integrator) noexcept;
+const char* contact_law_name(ContactLaw law) noexcept;
+
+/// How candidate pairs are found, chosen by build_dem() from the scene.
+enum class BroadPhase : std::uint8_t {
+  none,       ///< fewer than two particles: no pair contacts possible, stage skipped
+  all_pairs,  ///< few particles: a fixed list of every pair, never rebuilt
+  grid,       ///< uniform grid (counting sort) + Verlet list with a skin
+};
+
+template <int D>
+struct ParticleDesc {
+  double mass = 0;       ///< kg, > 0
+  double radius = 0;     ///< m, > 0
+  double stiffness = 0;  ///< N/m, > 0 (the particle's own normal stiffness k_i)
+  std::array<double, D> position{};  ///< m
+  std::array<double, D> velocity{};  ///< m/s
+};
+
+/// A fixed half-space boundary: the solid side is where (x − point)·normal < 0.
+/// Overlap with a particle is δ = r − (x − point)·normal, however deep.
+template <int D>
+struct PlaneDesc {
+  std::array<double, D> point{};
+  std::array<double, D> normal{};  ///< normalised by build_dem(); must not be zero
+};
+
+/// Fixed bounds. 0 picks the default documented on each field.
+struct DemCapacities {
+  /// Entries of the pair (Verlet) list. Default: 8 per particle + 64 (grid),
+  /// or n(n−1)/2 for all_pairs.
+  std::int32_t max_pairs = 0;
+  /// Entries of one particle's half of the pair list (partners j > i).
+  /// Default 48 (enough for a dense 3D packing with a skin of half a radius).
+  std::int32_t max_neighbors_per_particle = 0;
+  /// Cells of the broad-phase grid over the particles' bounding box.
+  /// Default: 8 per particle + 4096.
+  std::int32_t max_grid_cells = 0;
+  /// Events located inside one step (abm4_events). Default 16.
+  std::int32_t max_events_per_step = 0;
+};
+
+template <int D>
+struct DemDesc {
+  std::vector<ParticleDesc<D>> particles;
+  std::vector<PlaneDesc<D>> planes;
+  std::array<double, D> gravity{};  ///< m/s²
+  ContactLaw law = ContactLaw::linear;
+  double damping_ratio = 0;  ///< ζ in [0, 1): η = 2 ζ √(K m_eff)
+  DemIntegrator integrator = DemIntegrator::abm4;
+  double dt = 0;  ///< s, > 0
+  /// Verlet-list skin (m) for the grid broad phase; 0 = half the largest radius.
+  double skin = 0;
+  /// Particle counts up to this use the all_pairs broad phase instead of the grid.
+  std::int32_t all_pairs_up_to = 8;
+  DemCapacities capacities;
+  /// Refuse to build when dt exceeds the integrator's stable step for the
+  /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
+  bool reject_unstable_dt = true;
+};
+
+/// Features resolved once at build: the stepper and its kernels skip what a
+/// scene does not need (no gravity term when g = 0, no dashpot when ζ = 0, …).
+struct DemFeatures {
+  bool gravity = false;
+  bool damped = false;
+  bool nontensile = false;
+  bool planes = false;
+  BroadPhase broad_phase = BroadPhase::none;
+};
+
+template <int D>
+struct DemModel;
+template <int D>
+struct DemState;
+template <int D>
+struct DemWorkspace;
+
+/// Column views: one pointer per axis (struct of arrays).
+template <int D>
+using Columns = std::array<double*, D>;
+template <int D>
+using ConstColumns = std::array<const double*, D>;
+
+/// Force kernel chosen at build for the scene's features (see dem/forces.hpp).
+template <int D>
+using AccelerationKernel = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, ConstColumns<D> x,
+                                          ConstColumns<D> v, Columns<D> a);
+
+template <int D>
+struct DemModel {
+  std::int32_t n = 0;  ///< particles
+  // Particle properties, struct of arrays, index = particle id (creation order).
+  std::vector<double> mass, inv_mass, radius, stiffness;
+  /// Dashpot coefficient against a plane, 2 ζ √(k_i m_i), per particle.
+  std::vector<double> plane_eta;
+  std::vector<std::array<double, D>> plane_point, plane_normal;
+  std::array<double, D> gravity{};
+  ContactLaw law = ContactLaw::linear;
+  double damping_ratio = 0;
+  DemIntegrator integrator = DemIntegrator::abm4;
+  double dt = 0;
+  double skin = 0;       ///< m (grid broad phase)
+  double cell_size = 0;  ///< m, 2 r_max + skin
+  DemCapacities capacities;  ///< resolved (no zeros)
+  DemFeatures features;
+  /// Largest angular frequency √(K/m_eff) over every possible contact (rad/s).
+  double max_contact_omega = 0;
+  /// Stable step of the chosen integrator for the stiffest contact (s).
+  double stable_dt = 0;
+  /// Kernels: plain (overlap decides) and frozen-mode (the contact set of the
+  /// interval start decides; abm4_events only).
+  AccelerationKernel<D> accelerations = nullptr;
+  AccelerationKernel<D> accelerations_frozen = nullptr;
+};
+
+/// Everything a step changes. Plain data: copying it is a snapshot.
+template <int D>
+struct DemState {
+  double time = 0;        ///< s
+  std::int64_t step = 0;  ///< steps taken
+  std::array<std::vector<double>, D> x, v;  ///< positions (m), velocities (m/s)
+  /// Multistep history, a ring of 4 slots: hist_v/hist_a[slot][axis][particle].
+  /// Slot `history_head` holds f(y_n) = (v_n, a_n); older slots follow.
+  /// Verlet, symplectic Euler and RK4 use slot head for the last acceleration.
+  std::array<std::array<std::vector<double>, D>, 4> hist_v, hist_a;
+  std::int32_t history_head = 0;
+  /// Valid history slots since the last (re)start, 1..4.
+  std::int32_t history_count = 1;
+  // Pair (Verlet) list: pairs (i, j), i < j, sorted by i; K and η per pair.
+  std::int32_t pair_count = 0;
+  std::vector<std::int32_t> pair_i, pair_j;
+  std::vector<double> pair_stiffness, pair_eta;
+  /// Positions at the last list build (grid broad phase).
+  std::array<std::vector<double>, D> x_ref;
+  std::int32_t pairs_valid = 0;
+  // Diagnostics (high-water marks and counters), part of the state so that
+  // a replay reproduces them.
+  std::int64_t list_builds = 0;
+  std::int32_t peak_pairs = 0, peak_neighbors = 0, peak_grid_cells = 0, peak_events = 0;
+  std::int64_t events_located = 0;
+
+  template <class Visitor>
+  void for_each_array(Visitor&& visit);
+};
+
+/// Scratch for one step; no content survives between steps.
+template <int D>
+struct DemWorkspace {
+  std::array<std::vector<double>, D> xs, vs, as;  ///< stage state and its acceleration
+  std::array<std::vector<double>, D> sum_x, sum_v;  ///< RK4 accumulators
+  std::array<std::vector<double>, D> x0, v0;  ///< start of the current (sub)interval
+  std::array<std::vector<double>, D> a0;      ///< acceleration at x0, v0
+  std::array<std::vector<double>, D> x1, v1;  ///< end of a trial (sub)interval
+  std::vector<std::int32_t> cell_start, cell_particles, particle_cell;
+  /// Frozen contact set for abm4_events: start-of-interval state the kernels read.
+  ConstColumns<D> mode_x{}, mode_v{};
+  std::int32_t grid_cells_used = 0;
+};
+
+/// Validates `desc` and sizes model, state and workspace. The only call that
+/// allocates. On failure the message names the field ("particles[3].mass").
+template <int D>
+BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
+
+/// Advances the particles by model.dt. Never allocates, throws or locks.
+template <int D>
+StepStatus dem_step(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
+
+/// Stable step factor y = ω h of an integrator for one linear contact with
+/// damping ratio ζ: the largest ω h at which one undamped contact period
+/// (2π/(ω h) steps) amplifies the free response by at most 1 %. See docs/dem.md.
+double dem_stable_step_factor(DemIntegrator integrator, double damping_ratio);
+
+/// Spectral radius of one step of `integrator` on the contact oscillator
+/// δ'' + 2ζω δ' + ω² δ = 0 at ω h = y (what dem_stable_step_factor inspects).
+double dem_amplification(DemIntegrator integrator, double damping_ratio, double y);
+
+// ---- probes (read the current state; cheap, allocation-free) --------------
+
+struct DemEnergy {
+  double kinetic = 0;    ///< Σ ½ m v²
+  double elastic = 0;    ///< Σ ½ K δ² over overlapping contacts (planes and pairs)
+  double potential = 0;  ///< Σ −m g·x (datum x = 0)
+};
+template <int D>
+DemEnergy dem_energy(const DemModel<D>& model, const DemState<D>& state);
+
+/// Normal force K δ + η δ' between particles i and j (compressive positive; 0
+/// when apart; slightly negative at the end of a `linear` contact; clamped at 0
+/// for linear_nontensile).
+template <int D>
+double dem_pair_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t j);
+
+/// Normal force between particle i and plane p (same conventions).
+template <int D>
+double dem_plane_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t p);
+
+// ---- implementation of the template member ---------------------------------
+
+template <int D>
+template <class Visitor>
+void DemState<D>::for_each_array(Visitor&& visit) {
+  visit("time", &time, 1);
+  visit("step", &step, 1);
+  for (int d = 0; d < D; ++d) visit("x", x[d].data(), x[d].size());
+  for (int d = 0; d < D; ++d) visit("v", v[d].data(), v[d].size());
+  for (int s = 0; s < 4; ++s)
+    for (int d = 0; d < D; ++d) {
+      visit("hist_v", hist_v[s][d].data(), hist_v[s][d].size());
+      visit("hist_a", hist_a[s][d].data(), hist_a[s][d].size());
+    }
+  visit("history_head", &history_head, 1);
+  visit("history_count", &history_count, 1);
+  visit("pair_count", &pair_count, 1);
+  visit("pair_i", pair_i.data(), pair_i.size());
+  visit("pair_j", pair_j.data(), pair_j.size());
+  visit("pair_stiffness", pair_stiffness.data(), pair_stiffness.size());
+  visit("pair_eta", pair_eta.data(), pair_eta.size());
+  for (int d = 0; d < D; ++d) visit("x_ref", x_ref[d].data(), x_ref[d].size());
+  visit("pairs_valid", &pairs_valid, 1);
+  visit("list_builds", &list_builds, 1);
+  visit("peak_pairs", &peak_pairs, 1);
+  visit("peak_neighbors", &peak_neighbors, 1);
+  visit("peak_grid_cells", &peak_grid_cells, 1);
+  visit("peak_events", &peak_events, 1);
+  visit("events_located", &events_located, 1);
+}
+
+}  // namespace xfdem

@@ -1,0 +1,282 @@
+// build_dem(): validation, feature resolution, capacities and sizing. The only
+// DEM call that allocates.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "dem/forces.hpp"
+
+namespace xfdem {
+
+const char* integrator_name(DemIntegrator integrator) noexcept {
+  switch (integrator) {
+    case DemIntegrator::abm4: return "abm4";
+    case DemIntegrator::abm4_events: return "abm4_events";
+    case DemIntegrator::verlet: return "verlet";
+    case DemIntegrator::symplectic_euler: return "symplectic_euler";
+    case DemIntegrator::rk4: return "rk4";
+  }
+  return "unknown";
+}
+
+const char* contact_law_name(ContactLaw law) noexcept {
+  return law == ContactLaw::linear ? "linear" : "linear_nontensile";
+}
+
+namespace dem_detail {
+
+template <int D, bool Frozen>
+AccelerationKernel<D> pick(const DemFeatures& f) {
+  // 2^3 feature combinations; the compiler drops the dead branches of each.
+  const int key = (f.gravity ? 4 : 0) | (f.damped ? 2 : 0) | (f.nontensile ? 1 : 0);
+  switch (key) {
+    case 0: return &accelerations<D, false, false, false, Frozen>;
+    case 1: return &accelerations<D, false, false, true, Frozen>;
+    case 2: return &accelerations<D, false, true, false, Frozen>;
+    case 3: return &accelerations<D, false, true, true, Frozen>;
+    case 4: return &accelerations<D, true, false, false, Frozen>;
+    case 5: return &accelerations<D, true, false, true, Frozen>;
+    case 6: return &accelerations<D, true, true, false, Frozen>;
+    default: return &accelerations<D, true, true, true, Frozen>;
+  }
+}
+
+template <int D>
+AccelerationKernel<D> select_kernel(const DemFeatures& f, bool frozen) {
+  return frozen ? pick<D, true>(f) : pick<D, false>(f);
+}
+
+}  // namespace dem_detail
+
+namespace {
+
+using Code = BuildResult::Code;
+
+bool finite_array(const double* a, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(a[i])) return false;
+  return true;
+}
+
+/// Largest ω² = K/m_eff over all possible contacts. Pairs are grouped by
+/// distinct (k, m) so that a large uniform packing costs O(n), not O(n²).
+template <int D>
+double max_contact_omega2(const DemDesc<D>& desc, bool pairs_possible) {
+  double best = 0;
+  std::map<std::pair<double, double>, int> classes;
+  for (const auto& p : desc.particles) {
+    if (!desc.planes.empty()) best = std::max(best, p.stiffness / p.mass);
+    classes.emplace(std::make_pair(p.stiffness, p.mass), 0);
+  }
+  if (!pairs_possible) return best;
+  if (classes.size() > 2048) {
+    // Bound: K(1/m_i + 1/m_j) <= k_i/m_i + k_j/m_j <= 2 max(k/m).
+    for (const auto& p : desc.particles) best = std::max(best, 2.0 * p.stiffness / p.mass);
+    return best;
+  }
+  for (auto a = classes.begin(); a != classes.end(); ++a)
+    for (auto b = a; b != classes.end(); ++b) {
+      const auto [ka, ma] = a->first;
+      const auto [kb, mb] = b->first;
+      best = std::max(best, ka * kb / (ka + kb) * (1.0 / ma + 1.0 / mb));
+    }
+  return best;
+}
+
+template <int D>
+void size_columns(std::array<std::vector<double>, D>& c, std::size_t n) {
+  for (auto& col : c) col.assign(n, 0.0);
+}
+
+}  // namespace
+
+template <int D>
+BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  m = DemModel<D>{};
+  s = DemState<D>{};
+  w = DemWorkspace<D>{};
+  const auto n = static_cast<std::int64_t>(desc.particles.size());
+  if (n > 50'000'000) return BuildResult::failure(Code::capacity, "particles: %lld exceeds the 5e7 limit", (long long)n);
+  if (!(std::isfinite(desc.dt) && desc.dt > 0))
+    return BuildResult::failure(Code::invalid_argument, "dt: must be finite and > 0 (got %g)", desc.dt);
+  if (!(desc.damping_ratio >= 0 && desc.damping_ratio < 1))
+    return BuildResult::failure(Code::invalid_argument, "damping_ratio: must be in [0, 1) (got %g)", desc.damping_ratio);
+  if (!finite_array(desc.gravity.data(), D))
+    return BuildResult::failure(Code::invalid_argument, "gravity: must be finite");
+  if (!(std::isfinite(desc.skin) && desc.skin >= 0))
+    return BuildResult::failure(Code::invalid_argument, "skin: must be finite and >= 0 (got %g)", desc.skin);
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto& p = desc.particles[static_cast<std::size_t>(i)];
+    const auto fail = [&](const char* field, const char* what, double value) {
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].%s: %s (got %g)", (long long)i, field, what,
+                                  value);
+    };
+    if (!(std::isfinite(p.mass) && p.mass > 0)) return fail("mass", "must be finite and > 0", p.mass);
+    if (!(std::isfinite(p.radius) && p.radius > 0)) return fail("radius", "must be finite and > 0", p.radius);
+    if (!(std::isfinite(p.stiffness) && p.stiffness > 0)) return fail("stiffness", "must be finite and > 0", p.stiffness);
+    if (!finite_array(p.position.data(), D))
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].position: must be finite", (long long)i);
+    if (!finite_array(p.velocity.data(), D))
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].velocity: must be finite", (long long)i);
+  }
+  for (std::size_t p = 0; p < desc.planes.size(); ++p) {
+    const auto& pl = desc.planes[p];
+    if (!finite_array(pl.point.data(), D) || !finite_array(pl.normal.data(), D))
+      return BuildResult::failure(Code::invalid_argument, "planes[%zu]: point and normal must be finite", p);
+    double len2 = 0;
+    for (double c : pl.normal) len2 += c * c;
+    if (!(len2 > 1e-300)) return BuildResult::failure(Code::invalid_argument, "planes[%zu].normal: must not be zero", p);
+  }
+
+  // ---- features and broad phase --------------------------------------------
+  m.n = static_cast<std::int32_t>(n);
+  m.gravity = desc.gravity;
+  m.law = desc.law;
+  m.damping_ratio = desc.damping_ratio;
+  m.integrator = desc.integrator;
+  m.dt = desc.dt;
+  m.features.gravity = std::any_of(desc.gravity.begin(), desc.gravity.end(), [](double g) { return g != 0.0; });
+  m.features.damped = desc.damping_ratio > 0;
+  m.features.nontensile = desc.law == ContactLaw::linear_nontensile;
+  m.features.planes = !desc.planes.empty();
+  if (n < 2)
+    m.features.broad_phase = BroadPhase::none;
+  else if (n <= std::max<std::int32_t>(desc.all_pairs_up_to, 0))
+    m.features.broad_phase = BroadPhase::all_pairs;
+  else
+    m.features.broad_phase = BroadPhase::grid;
+
+  double r_max = 0;
+  for (const auto& p : desc.particles) r_max = std::max(r_max, p.radius);
+  m.skin = desc.skin > 0 ? desc.skin : 0.5 * r_max;
+  m.cell_size = 2.0 * r_max + m.skin;
+
+  // ---- capacities ----------------------------------------------------------
+  const auto pick = [](std::int32_t given, std::int64_t fallback) {
+    return given > 0 ? static_cast<std::int64_t>(given) : fallback;
+  };
+  const std::int64_t all_pairs = n * (n - 1) / 2;
+  std::int64_t max_pairs = 0;
+  if (m.features.broad_phase == BroadPhase::all_pairs)
+    max_pairs = all_pairs;
+  else if (m.features.broad_phase == BroadPhase::grid)
+    max_pairs = pick(desc.capacities.max_pairs, 8 * n + 64);
+  const std::int64_t max_cells = pick(desc.capacities.max_grid_cells, 8 * n + 4096);
+  if (max_pairs > 400'000'000 || max_cells > 400'000'000)
+    return BuildResult::failure(Code::capacity, "capacities: max_pairs/max_grid_cells above 4e8");
+  m.capacities.max_pairs = static_cast<std::int32_t>(max_pairs);
+  m.capacities.max_neighbors_per_particle = static_cast<std::int32_t>(pick(desc.capacities.max_neighbors_per_particle, 48));
+  m.capacities.max_grid_cells = m.features.broad_phase == BroadPhase::grid ? static_cast<std::int32_t>(max_cells) : 0;
+  m.capacities.max_events_per_step = static_cast<std::int32_t>(pick(desc.capacities.max_events_per_step, 16));
+
+  // ---- stable step -----------------------------------------------------------
+  const double omega2 = max_contact_omega2(desc, m.features.broad_phase != BroadPhase::none);
+  m.max_contact_omega = std::sqrt(omega2);
+  const double factor = dem_stable_step_factor(desc.integrator, desc.damping_ratio);
+  m.stable_dt = omega2 > 0 ? factor / m.max_contact_omega : INFINITY;
+  if (desc.reject_unstable_dt && desc.dt > m.stable_dt)
+    return BuildResult::failure(Code::unstable_time_step,
+                                "dt: %g s exceeds the stable step %g s of integrator %s for the stiffest contact "
+                                "(omega = %g rad/s, damping ratio %g; stable omega*dt = %.4f)",
+                                desc.dt, m.stable_dt, integrator_name(desc.integrator), m.max_contact_omega,
+                                desc.damping_ratio, factor);
+
+  // ---- particle columns ------------------------------------------------------
+  const auto un = static_cast<std::size_t>(n);
+  m.mass.resize(un);
+  m.inv_mass.resize(un);
+  m.radius.resize(un);
+  m.stiffness.resize(un);
+  m.plane_eta.resize(un);
+  for (std::size_t i = 0; i < un; ++i) {
+    const auto& p = desc.particles[i];
+    m.mass[i] = p.mass;
+    m.inv_mass[i] = 1.0 / p.mass;
+    m.radius[i] = p.radius;
+    m.stiffness[i] = p.stiffness;
+    m.plane_eta[i] = 2.0 * desc.damping_ratio * std::sqrt(p.stiffness * p.mass);
+  }
+  for (const auto& pl : desc.planes) {
+    double len = 0;
+    for (double c : pl.normal) len += c * c;
+    len = std::sqrt(len);
+    std::array<double, D> normal;
+    for (int d = 0; d < D; ++d) normal[d] = pl.normal[d] / len;
+    m.plane_point.push_back(pl.point);
+    m.plane_normal.push_back(normal);
+  }
+
+  // ---- state and workspace -----------------------------------------------------
+  size_columns<D>(s.x, un);
+  size_columns<D>(s.v, un);
+  for (int k = 0; k < 4; ++k) {
+    size_columns<D>(s.hist_v[k], un);
+    size_columns<D>(s.hist_a[k], un);
+  }
+  size_columns<D>(s.x_ref, un);
+  for (std::size_t i = 0; i < un; ++i)
+    for (int d = 0; d < D; ++d) {
+      s.x[d][i] = desc.particles[i].position[d];
+      s.v[d][i] = desc.particles[i].velocity[d];
+    }
+  const auto up = static_cast<std::size_t>(max_pairs);
+  s.pair_i.assign(up, 0);
+  s.pair_j.assign(up, 0);
+  s.pair_stiffness.assign(up, 0.0);
+  s.pair_eta.assign(up, 0.0);
+  for (auto* c : {&w.xs, &w.vs, &w.as, &w.sum_x, &w.sum_v, &w.x0, &w.v0, &w.a0, &w.x1, &w.v1}) size_columns<D>(*c, un);
+  if (m.features.broad_phase == BroadPhase::grid) {
+    w.cell_start.assign(static_cast<std::size_t>(max_cells) + 1, 0);
+    w.cell_particles.assign(un, 0);
+    w.particle_cell.assign(un, 0);
+  }
+  if (m.features.broad_phase == BroadPhase::all_pairs) {
+    std::int32_t c = 0;
+    for (std::int32_t i = 0; i < m.n; ++i)
+      for (std::int32_t j = i + 1; j < m.n; ++j, ++c) {
+        const double ki = m.stiffness[i], kj = m.stiffness[j];
+        const double K = ki * kj / (ki + kj);
+        s.pair_i[c] = i;
+        s.pair_j[c] = j;
+        s.pair_stiffness[c] = K;
+        s.pair_eta[c] = 2.0 * desc.damping_ratio * std::sqrt(K * m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]));
+      }
+    s.pair_count = c;
+    s.pairs_valid = 1;
+    s.peak_pairs = c;
+  }
+
+  m.accelerations = dem_detail::select_kernel<D>(m.features, false);
+  m.accelerations_frozen = dem_detail::select_kernel<D>(m.features, true);
+
+  // f(y_0): the first history entry.
+  s.history_head = 0;
+  s.history_count = 0;
+  if (n > 0) {
+    ConstColumns<D> x, v;
+    Columns<D> a;
+    for (int d = 0; d < D; ++d) {
+      x[d] = s.x[d].data();
+      v[d] = s.v[d].data();
+      a[d] = s.hist_a[0][d].data();
+    }
+    const StepStatus status = m.accelerations(m, s, w, x, v, a);
+    if (has(status, kStepNotTaken)) {
+      char text[128];
+      m.accelerations = nullptr;
+      return BuildResult::failure(Code::capacity,
+                                  "capacities: the initial configuration does not fit (%s); raise the named capacity",
+                                  describe(status, text, sizeof(text)));
+    }
+    for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
+  }
+  s.history_count = 1;
+  return BuildResult::success();
+}
+
+template BuildResult build_dem<1>(const DemDesc<1>&, DemModel<1>&, DemState<1>&, DemWorkspace<1>&);
+template BuildResult build_dem<2>(const DemDesc<2>&, DemModel<2>&, DemState<2>&, DemWorkspace<2>&);
+template BuildResult build_dem<3>(const DemDesc<3>&, DemModel<3>&, DemState<3>&, DemWorkspace<3>&);
+
+}  // namespace xfdem

@@ -1,0 +1,145 @@
+// Contact force kernels, one instantiation per feature set, picked once by
+// build_dem() (no feature test inside the inner loops).
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "xfdem/dem.hpp"
+
+namespace xfdem::dem_detail {
+
+/// Whether a contact is "on": overlap δ > 0 for `linear`; for the non-tensile
+/// law additionally the unclamped force K δ + η δ' > 0. Written as a continuous
+/// function (min of the two, in metres) so that events can be located by
+/// its sign change.
+inline double contact_indicator(bool nontensile, double overlap, double rate, double K, double eta) {
+  if (!nontensile) return overlap;
+  return std::min(overlap, overlap + eta * rate / K);
+}
+
+/// Normal force of the plain law at overlap δ > 0 and overlap rate δ'.
+template <bool Damped, bool NonTensile>
+inline double normal_force(double K, double eta, double overlap, double rate) {
+  double force = K * overlap;
+  if constexpr (Damped) force += eta * rate;
+  if constexpr (NonTensile) force = std::max(force, 0.0);
+  return force;
+}
+
+/// Rebuilds the pair list if any particle moved more than skin/2 since the last
+/// build (grid broad phase only). Defined in broadphase.cpp.
+template <int D>
+StepStatus refresh_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
+template <int D>
+StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
+
+/// a = g + Σ contact forces / m at the state (x, v).
+/// Frozen: a contact is on iff it was on at the interval start (w.mode_x,
+/// w.mode_v), and then follows the unclamped linear law even past δ = 0; the
+/// right-hand side is then smooth over the interval, which the event-located
+/// integrator needs for its order.
+template <int D, bool Gravity, bool Damped, bool NonTensile, bool Frozen>
+StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
+                         ConstColumns<D> v, Columns<D> a) {
+  const std::int32_t n = m.n;
+  for (int d = 0; d < D; ++d) {
+    const double g = Gravity ? m.gravity[d] : 0.0;
+    double* ad = a[d];
+    for (std::int32_t i = 0; i < n; ++i) ad[i] = g;
+  }
+  const double* radius = m.radius.data();
+  const double* inv_mass = m.inv_mass.data();
+  const double* stiffness = m.stiffness.data();
+  const double* plane_eta = m.plane_eta.data();
+
+  // Particle–plane contacts (K = k_i, m_eff = m_i).
+  const std::size_t planes = m.plane_point.size();
+  for (std::size_t p = 0; p < planes; ++p) {
+    const auto& point = m.plane_point[p];
+    const auto& normal = m.plane_normal[p];
+    for (std::int32_t i = 0; i < n; ++i) {
+      double gap = 0;
+      for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * normal[d];
+      const double overlap = radius[i] - gap;
+      if constexpr (Frozen) {
+        double gap0 = 0, rate0 = 0;
+        for (int d = 0; d < D; ++d) {
+          gap0 += (w.mode_x[d][i] - point[d]) * normal[d];
+          rate0 -= w.mode_v[d][i] * normal[d];
+        }
+        if (!(contact_indicator(NonTensile, radius[i] - gap0, rate0, stiffness[i], plane_eta[i]) > 0)) continue;
+      } else {
+        if (!(overlap > 0)) continue;
+      }
+      double rate = 0;
+      if constexpr (Damped)
+        for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
+      const double force = normal_force<Damped, NonTensile && !Frozen>(stiffness[i], plane_eta[i], overlap, rate);
+      const double scaled = force * inv_mass[i];
+      for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
+    }
+  }
+
+  // Particle–particle contacts from the pair list.
+  if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
+  StepStatus status = StepStatus::ok;
+  if (m.features.broad_phase == BroadPhase::grid) {
+    status = refresh_pair_list<D>(m, s, w, x);
+    if (has(status, kStepNotTaken) || has(status, StepStatus::non_finite)) return status;
+  }
+  const std::int32_t* pi = s.pair_i.data();
+  const std::int32_t* pj = s.pair_j.data();
+  const double* pair_k = s.pair_stiffness.data();
+  const double* pair_eta = s.pair_eta.data();
+  const std::int32_t count = s.pair_count;
+  for (std::int32_t c = 0; c < count; ++c) {
+    const std::int32_t i = pi[c], j = pj[c];
+    double dx[D];
+    double dist2 = 0;
+    for (int d = 0; d < D; ++d) {
+      dx[d] = x[d][j] - x[d][i];
+      dist2 += dx[d] * dx[d];
+    }
+    const double reach = radius[i] + radius[j];
+    if constexpr (Frozen) {
+      double dx0[D], dist0 = 0;
+      for (int d = 0; d < D; ++d) {
+        dx0[d] = w.mode_x[d][j] - w.mode_x[d][i];
+        dist0 += dx0[d] * dx0[d];
+      }
+      dist0 = std::sqrt(dist0);
+      double rate0 = 0;
+      if (dist0 > 0)
+        for (int d = 0; d < D; ++d) rate0 -= (w.mode_v[d][j] - w.mode_v[d][i]) * dx0[d] / dist0;
+      if (!(contact_indicator(NonTensile, reach - dist0, rate0, pair_k[c], pair_eta[c]) > 0)) continue;
+    } else {
+      if (!(dist2 < reach * reach)) continue;
+    }
+    const double dist = std::sqrt(dist2);
+    double normal[D];
+    if (dist > 0) {
+      for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
+    } else {
+      // Coincident centres: no direction is better than another; take the
+      // first axis and report it.
+      for (int d = 0; d < D; ++d) normal[d] = d == 0 ? 1.0 : 0.0;
+      status |= StepStatus::coincident_centres;
+    }
+    double rate = 0;
+    if constexpr (Damped)
+      for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
+    const double force = normal_force<Damped, NonTensile && !Frozen>(pair_k[c], pair_eta[c], reach - dist, rate);
+    const double fi = force * inv_mass[i], fj = force * inv_mass[j];
+    for (int d = 0; d < D; ++d) {
+      a[d][i] -= fi * normal[d];
+      a[d][j] += fj * normal[d];
+    }
+  }
+  return status;
+}
+
+/// The kernel for a feature set (plain or frozen).
+template <int D>
+AccelerationKernel<D> select_kernel(const DemFeatures& f, bool frozen);
+
+}  // namespace xfdem::dem_detail

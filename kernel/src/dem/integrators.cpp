@@ -1,0 +1,391 @@
+// Time integrators for the particles.
+//
+// The state is y = (x, v) and f(y) = (v, a(x, v)); a depends on the state only.
+// Every integrator computes its new (x, v) and the acceleration it keeps for the
+// next step in workspace arrays first, and commits them to the State by swapping
+// buffers (O(1), no allocation) only when every force evaluation succeeded: a
+// step that hits a capacity leaves positions, velocities and time untouched.
+//
+// History convention: slot `history_head` of hist_v/hist_a holds f(y_n).
+#include <cmath>
+
+#include "dem/forces.hpp"
+
+namespace xfdem {
+namespace {
+
+using dem_detail::contact_indicator;
+
+template <int D>
+ConstColumns<D> view(const std::array<std::vector<double>, D>& a) {
+  ConstColumns<D> c;
+  for (int d = 0; d < D; ++d) c[d] = a[d].data();
+  return c;
+}
+template <int D>
+Columns<D> view(std::array<std::vector<double>, D>& a) {
+  Columns<D> c;
+  for (int d = 0; d < D; ++d) c[d] = a[d].data();
+  return c;
+}
+
+constexpr bool stop_now(StepStatus s) { return has(s, kStepNotTaken); }
+
+/// One classical RK4 step of size h from (x0, v0) whose acceleration a0 is
+/// known, into (x1, v1). Stage work in w.xs/vs/as and w.sum_x/sum_v.
+/// S3 is evaluated at y_n + S2 h/2 (paper-notes, slip in eq 31).
+template <int D>
+StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> kernel,
+                    ConstColumns<D> x0, ConstColumns<D> v0, ConstColumns<D> a0, double h, Columns<D> x1,
+                    Columns<D> v1) {
+  const std::int32_t n = m.n;
+  const double half = 0.5 * h;
+  auto xs = view<D>(w.xs), vs = view<D>(w.vs), as = view<D>(w.as);
+  auto sx = view<D>(w.sum_x), sv = view<D>(w.sum_v);
+  auto cxs = view<D>(static_cast<const std::array<std::vector<double>, D>&>(w.xs));
+  auto cvs = view<D>(static_cast<const std::array<std::vector<double>, D>&>(w.vs));
+  // S1 = (v0, a0); stage 2 at y0 + S1 h/2.
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) {
+      sx[d][i] = v0[d][i];
+      sv[d][i] = a0[d][i];
+      xs[d][i] = x0[d][i] + half * v0[d][i];
+      vs[d][i] = v0[d][i] + half * a0[d][i];
+    }
+  StepStatus status = kernel(m, s, w, cxs, cvs, as);
+  if (stop_now(status)) return status;
+  // S2 = (vs, as); stage 3 at y0 + S2 h/2.
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) {
+      const double s2x = vs[d][i], s2v = as[d][i];
+      sx[d][i] += 2.0 * s2x;
+      sv[d][i] += 2.0 * s2v;
+      xs[d][i] = x0[d][i] + half * s2x;
+      vs[d][i] = v0[d][i] + half * s2v;
+    }
+  status |= kernel(m, s, w, cxs, cvs, as);
+  if (stop_now(status)) return status;
+  // S3; stage 4 at y0 + S3 h.
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) {
+      const double s3x = vs[d][i], s3v = as[d][i];
+      sx[d][i] += 2.0 * s3x;
+      sv[d][i] += 2.0 * s3v;
+      xs[d][i] = x0[d][i] + h * s3x;
+      vs[d][i] = v0[d][i] + h * s3v;
+    }
+  status |= kernel(m, s, w, cxs, cvs, as);
+  if (stop_now(status)) return status;
+  const double sixth = h / 6.0;
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) {
+      x1[d][i] = x0[d][i] + sixth * (sx[d][i] + vs[d][i]);
+      v1[d][i] = v0[d][i] + sixth * (sv[d][i] + as[d][i]);
+    }
+  return status;
+}
+
+/// Makes (w.x1, w.v1) the new state and `acc` its acceleration (kept in a new
+/// history slot). Buffers are swapped, not copied.
+template <int D>
+void commit(DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc, bool advance_history) {
+  const std::int32_t slot = advance_history ? (s.history_head + 1) % 4 : s.history_head;
+  for (int d = 0; d < D; ++d) {
+    s.x[d].swap(w.x1[d]);
+    s.v[d].swap(w.v1[d]);
+    s.hist_a[slot][d].swap(acc[d]);
+    s.hist_v[slot][d] = s.v[d];  // same size: copies in place, no allocation
+  }
+  s.history_head = slot;
+}
+
+/// Evaluates f(y_n) into the head slot when the history was invalidated.
+template <int D>
+StepStatus ensure_current_acceleration(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  if (s.history_count > 0) return StepStatus::ok;
+  const StepStatus status = m.accelerations(m, s, w, view<D>(static_cast<const decltype(s.x)&>(s.x)),
+                                            view<D>(static_cast<const decltype(s.v)&>(s.v)),
+                                            view<D>(s.hist_a[s.history_head]));
+  if (stop_now(status)) return status;
+  for (int d = 0; d < D; ++d) s.hist_v[s.history_head][d] = s.v[d];
+  s.history_count = 1;
+  return status;
+}
+
+template <int D>
+StepStatus step_rk4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  const auto& cs = s;
+  StepStatus status = rk4_step<D>(m, s, w, m.accelerations, view<D>(cs.x), view<D>(cs.v),
+                               view<D>(cs.hist_a[s.history_head]), m.dt, view<D>(w.x1), view<D>(w.v1));
+  if (stop_now(status)) return status;
+  // f(y_{n+1}) is S1 of the next step (and the multistep history).
+  status |= m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                            view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  if (stop_now(status)) return status;
+  commit<D>(s, w, w.a0, true);
+  s.history_count = std::min(s.history_count + 1, 4);
+  return status;
+}
+
+template <int D>
+StepStatus step_verlet(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  const std::int32_t n = m.n;
+  const double h = m.dt, half = 0.5 * m.dt;
+  const auto& a = s.hist_a[s.history_head];
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) {
+      const double v_half = s.v[d][i] + half * a[d][i];
+      w.vs[d][i] = v_half;
+      w.x1[d][i] = s.x[d][i] + h * v_half;
+    }
+  // The dashpot sees the half-step velocity (explicit; LIGGGHTS does the same).
+  const StepStatus status = m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                                            view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.a0));
+  if (stop_now(status)) return status;
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) w.v1[d][i] = w.vs[d][i] + half * w.a0[d][i];
+  commit<D>(s, w, w.a0, true);
+  s.history_count = std::min(s.history_count + 1, 4);
+  return status;
+}
+
+template <int D>
+StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  const std::int32_t n = m.n;
+  const double h = m.dt;
+  const auto& a = s.hist_a[s.history_head];
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < n; ++i) {
+      const double v_new = s.v[d][i] + h * a[d][i];
+      w.v1[d][i] = v_new;
+      w.x1[d][i] = s.x[d][i] + h * v_new;
+    }
+  const StepStatus status = m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                                            view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  if (stop_now(status)) return status;
+  commit<D>(s, w, w.a0, true);
+  s.history_count = std::min(s.history_count + 1, 4);
+  return status;
+}
+
+/// One ABM4 PECE step (history complete) from the state into (w.x1, w.v1).
+/// `predict_kernel` evaluates at the prediction (frozen for abm4_events).
+template <int D>
+StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> predict_kernel) {
+  const std::int32_t n = m.n;
+  const double c = m.dt / 24.0;
+  const int f0 = s.history_head, f1 = (f0 + 3) % 4, f2 = (f0 + 2) % 4, f3 = (f0 + 1) % 4;
+  for (int d = 0; d < D; ++d) {
+    const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
+                 *v3 = s.hist_v[f3][d].data();
+    const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data(),
+                 *a3 = s.hist_a[f3][d].data();
+    const double *x = s.x[d].data(), *v = s.v[d].data();
+    double *xs = w.xs[d].data(), *vs = w.vs[d].data();
+    for (std::int32_t i = 0; i < n; ++i) {
+      xs[i] = x[i] + c * (55.0 * v0[i] - 59.0 * v1[i] + 37.0 * v2[i] - 9.0 * v3[i]);
+      vs[i] = v[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
+    }
+  }
+  StepStatus status = predict_kernel(m, s, w, view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
+                                     view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
+  if (stop_now(status)) return status;
+  for (int d = 0; d < D; ++d) {
+    const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
+    const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
+    const double *x = s.x[d].data(), *v = s.v[d].data();
+    const double *vs = w.vs[d].data(), *as = w.as[d].data();
+    double *x1 = w.x1[d].data(), *vn = w.v1[d].data();
+    for (std::int32_t i = 0; i < n; ++i) {
+      x1[i] = x[i] + c * (9.0 * vs[i] + 19.0 * v0[i] - 5.0 * v1[i] + v2[i]);
+      vn[i] = v[i] + c * (9.0 * as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
+    }
+  }
+  return status;
+}
+
+template <int D>
+StepStatus step_abm4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  if (s.history_count < 4) return step_rk4(m, s, w);  // the three RK4 start steps
+  StepStatus status = abm4_pece<D>(m, s, w, m.accelerations);
+  if (stop_now(status)) return status;
+  status |= m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                            view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  if (stop_now(status)) return status;
+  commit<D>(s, w, w.a0, true);
+  return status;
+}
+
+// ---- contact events (abm4_events) ------------------------------------------
+
+/// True when some contact is on at (xa, va) and off at (xb, vb) or the reverse.
+template <int D>
+bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, ConstColumns<D> xa, ConstColumns<D> va,
+                         ConstColumns<D> xb, ConstColumns<D> vb) {
+  const bool nontensile = m.features.nontensile;
+  for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
+    const auto& point = m.plane_point[p];
+    const auto& normal = m.plane_normal[p];
+    for (std::int32_t i = 0; i < m.n; ++i) {
+      double ga = 0, gb = 0, ra = 0, rb = 0;
+      for (int d = 0; d < D; ++d) {
+        ga += (xa[d][i] - point[d]) * normal[d];
+        gb += (xb[d][i] - point[d]) * normal[d];
+        ra -= va[d][i] * normal[d];
+        rb -= vb[d][i] * normal[d];
+      }
+      const double k = m.stiffness[i], eta = m.plane_eta[i];
+      const bool on_a = contact_indicator(nontensile, m.radius[i] - ga, ra, k, eta) > 0;
+      const bool on_b = contact_indicator(nontensile, m.radius[i] - gb, rb, k, eta) > 0;
+      if (on_a != on_b) return true;
+    }
+  }
+  for (std::int32_t c = 0; c < s.pair_count; ++c) {
+    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
+    auto indicator = [&](ConstColumns<D> x, ConstColumns<D> v) {
+      double dx[D], dist = 0;
+      for (int d = 0; d < D; ++d) {
+        dx[d] = x[d][j] - x[d][i];
+        dist += dx[d] * dx[d];
+      }
+      dist = std::sqrt(dist);
+      double rate = 0;
+      if (dist > 0)
+        for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * dx[d] / dist;
+      return contact_indicator(nontensile, m.radius[i] + m.radius[j] - dist, rate, s.pair_stiffness[c],
+                               s.pair_eta[c]);
+    };
+    if ((indicator(xa, va) > 0) != (indicator(xb, vb) > 0)) return true;
+  }
+  return false;
+}
+
+/// abm4 whose steps never straddle a contact event. The trial step (RK4 start
+/// or PECE) runs with the contact set frozen at the step start; if the set at
+/// the end differs, the step is redone in pieces: bisection finds the first
+/// instant the set changes (to 2^-48 of the remaining interval), RK4 with the
+/// frozen set integrates up to just past it, and the rest of the step starts
+/// from there with the new set. The multistep history then restarts, since it
+/// spans a kink of the right-hand side.
+template <int D>
+StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  const auto& cs = s;
+  auto x_n = view<D>(cs.x), v_n = view<D>(cs.v);
+  w.mode_x = x_n;
+  w.mode_v = v_n;
+  StepStatus status;
+  if (s.history_count < 4) {
+    status = rk4_step<D>(m, s, w, m.accelerations_frozen, x_n, v_n, view<D>(cs.hist_a[s.history_head]), m.dt,
+                      view<D>(w.x1), view<D>(w.v1));
+  } else {
+    status = abm4_pece<D>(m, s, w, m.accelerations_frozen);
+  }
+  if (stop_now(status)) return status;
+  auto x1c = view<D>(static_cast<const decltype(w.x1)&>(w.x1));
+  auto v1c = view<D>(static_cast<const decltype(w.v1)&>(w.v1));
+  if (!contact_set_changed<D>(m, s, x_n, v_n, x1c, v1c)) {
+    status |= m.accelerations(m, s, w, x1c, v1c, view<D>(w.a0));
+    if (stop_now(status)) return status;
+    commit<D>(s, w, w.a0, true);
+    s.history_count = std::min(s.history_count + 1, 4);
+    return status;
+  }
+
+  // Event(s) inside the step. Work from (x0, v0, a0) = start of the remaining interval.
+  const std::int32_t n = m.n;
+  for (int d = 0; d < D; ++d) {
+    w.x0[d] = s.x[d];
+    w.v0[d] = s.v[d];
+    w.a0[d] = s.hist_a[s.history_head][d];
+  }
+  auto x0 = view<D>(static_cast<const decltype(w.x0)&>(w.x0));
+  auto v0 = view<D>(static_cast<const decltype(w.v0)&>(w.v0));
+  auto a0 = view<D>(static_cast<const decltype(w.a0)&>(w.a0));
+  double remaining = m.dt;
+  std::int32_t events = 0;
+  for (;;) {
+    w.mode_x = x0;
+    w.mode_v = v0;
+    status |= rk4_step<D>(m, s, w, m.accelerations_frozen, x0, v0, a0, remaining, view<D>(w.x1), view<D>(w.v1));
+    if (stop_now(status)) return status;
+    if (!contact_set_changed<D>(m, s, x0, v0, x1c, v1c)) break;
+    if (events == m.capacities.max_events_per_step) {
+      status |= StepStatus::event_capacity;
+      break;
+    }
+    // Bisection for the first fraction of `remaining` at which the set changes.
+    double lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 48; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      status |= rk4_step<D>(m, s, w, m.accelerations_frozen, x0, v0, a0, mid * remaining, view<D>(w.x1), view<D>(w.v1));
+      if (stop_now(status)) return status;
+      (contact_set_changed<D>(m, s, x0, v0, x1c, v1c) ? hi : lo) = mid;
+    }
+    // Land just past the event, where the new contact set holds.
+    status |= rk4_step<D>(m, s, w, m.accelerations_frozen, x0, v0, a0, hi * remaining, view<D>(w.x1), view<D>(w.v1));
+    if (stop_now(status)) return status;
+    for (int d = 0; d < D; ++d) {
+      w.x0[d].swap(w.x1[d]);
+      w.v0[d].swap(w.v1[d]);
+    }
+    x0 = view<D>(static_cast<const decltype(w.x0)&>(w.x0));
+    v0 = view<D>(static_cast<const decltype(w.v0)&>(w.v0));
+    x1c = view<D>(static_cast<const decltype(w.x1)&>(w.x1));
+    v1c = view<D>(static_cast<const decltype(w.v1)&>(w.v1));
+    status |= m.accelerations(m, s, w, x0, v0, view<D>(w.a0));
+    if (stop_now(status)) return status;
+    remaining -= hi * remaining;
+    ++events;
+  }
+  (void)n;
+  w.mode_x = {};
+  w.mode_v = {};
+  status |= m.accelerations(m, s, w, x1c, v1c, view<D>(w.as));
+  if (stop_now(status)) return status;
+  commit<D>(s, w, w.as, true);
+  s.history_count = 1;  // restart: the next three steps are RK4
+  s.events_located += events;
+  s.peak_events = std::max(s.peak_events, events);
+  return status;
+}
+
+template <int D>
+bool all_finite(const DemModel<D>& m, const DemState<D>& s) {
+  double probe = 0;
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < m.n; ++i) probe += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
+  return probe == 0.0;  // 0·x is NaN exactly when x is NaN or infinite
+}
+
+}  // namespace
+
+template <int D>
+StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  if (m.accelerations == nullptr) return StepStatus::not_built;
+  StepStatus status = ensure_current_acceleration(m, s, w);
+  if (stop_now(status)) return status;
+  switch (m.integrator) {
+    case DemIntegrator::abm4: status |= step_abm4(m, s, w); break;
+    case DemIntegrator::abm4_events: status |= step_abm4_events(m, s, w); break;
+    case DemIntegrator::verlet: status |= step_verlet(m, s, w); break;
+    case DemIntegrator::symplectic_euler: status |= step_symplectic_euler(m, s, w); break;
+    case DemIntegrator::rk4: status |= step_rk4(m, s, w); break;
+  }
+  if (stop_now(status)) {
+    // Positions, velocities and time are untouched; intermediate evaluations
+    // may have overwritten nothing but scratch, except that the history can no
+    // longer be trusted to continue smoothly: restart it.
+    s.history_count = 0;
+    return status;
+  }
+  ++s.step;
+  s.time = static_cast<double>(s.step) * m.dt;
+  if (!all_finite(m, s)) status |= StepStatus::non_finite;
+  return status;
+}
+
+template StepStatus dem_step<1>(const DemModel<1>&, DemState<1>&, DemWorkspace<1>&);
+template StepStatus dem_step<2>(const DemModel<2>&, DemState<2>&, DemWorkspace<2>&);
+template StepStatus dem_step<3>(const DemModel<3>&, DemState<3>&, DemWorkspace<3>&);
+
+}  // namespace xfdem

@@ -1,0 +1,100 @@
+// Read-only measurements of a DEM state, for the tools and tests.
+#include <cmath>
+
+#include "dem/forces.hpp"
+
+namespace xfdem {
+namespace {
+
+template <int D>
+double plane_overlap(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::size_t p, double* rate) {
+  double gap = 0, r = 0;
+  for (int d = 0; d < D; ++d) {
+    gap += (s.x[d][i] - m.plane_point[p][d]) * m.plane_normal[p][d];
+    r -= s.v[d][i] * m.plane_normal[p][d];
+  }
+  if (rate) *rate = r;
+  return m.radius[i] - gap;
+}
+
+template <int D>
+double pair_overlap(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::int32_t j, double* rate) {
+  double dx[D], dist = 0;
+  for (int d = 0; d < D; ++d) {
+    dx[d] = s.x[d][j] - s.x[d][i];
+    dist += dx[d] * dx[d];
+  }
+  dist = std::sqrt(dist);
+  double r = 0;
+  for (int d = 0; d < D; ++d) r -= (s.v[d][j] - s.v[d][i]) * (dist > 0 ? dx[d] / dist : (d == 0 ? 1.0 : 0.0));
+  if (rate) *rate = r;
+  return m.radius[i] + m.radius[j] - dist;
+}
+
+template <int D>
+double contact_force(const DemModel<D>& m, double K, double eta, double overlap, double rate) {
+  if (!(overlap > 0)) return 0.0;
+  double f = K * overlap + eta * rate;
+  if (m.law == ContactLaw::linear_nontensile) f = std::max(f, 0.0);
+  return f;
+}
+
+}  // namespace
+
+template <int D>
+DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
+  DemEnergy e;
+  for (std::int32_t i = 0; i < m.n; ++i) {
+    double v2 = 0, gx = 0;
+    for (int d = 0; d < D; ++d) {
+      v2 += s.v[d][i] * s.v[d][i];
+      gx += m.gravity[d] * s.x[d][i];
+    }
+    e.kinetic += 0.5 * m.mass[i] * v2;
+    e.potential -= m.mass[i] * gx;
+    for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
+      const double overlap = plane_overlap(m, s, i, p, nullptr);
+      if (overlap > 0) e.elastic += 0.5 * m.stiffness[i] * overlap * overlap;
+    }
+  }
+  // Every pair, not the pair list: the list may be stale between steps, and a
+  // probe is not on the hot path.
+  for (std::int32_t i = 0; i < m.n; ++i)
+    for (std::int32_t j = i + 1; j < m.n; ++j) {
+      const double overlap = pair_overlap(m, s, i, j, nullptr);
+      if (overlap > 0) {
+        const double K = m.stiffness[i] * m.stiffness[j] / (m.stiffness[i] + m.stiffness[j]);
+        e.elastic += 0.5 * K * overlap * overlap;
+      }
+    }
+  return e;
+}
+
+template <int D>
+double dem_pair_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::int32_t j) {
+  if (i < 0 || j < 0 || i >= m.n || j >= m.n || i == j) return NAN;
+  double rate = 0;
+  const double overlap = pair_overlap(m, s, i, j, &rate);
+  const double K = m.stiffness[i] * m.stiffness[j] / (m.stiffness[i] + m.stiffness[j]);
+  const double eta = 2.0 * m.damping_ratio * std::sqrt(K * m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]));
+  return contact_force(m, K, eta, overlap, rate);
+}
+
+template <int D>
+double dem_plane_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::int32_t p) {
+  if (i < 0 || i >= m.n || p < 0 || p >= static_cast<std::int32_t>(m.plane_point.size())) return NAN;
+  double rate = 0;
+  const double overlap = plane_overlap(m, s, i, static_cast<std::size_t>(p), &rate);
+  return contact_force(m, m.stiffness[i], m.plane_eta[i], overlap, rate);
+}
+
+#define XFDEM_INSTANTIATE(D)                                                                        \
+  template DemEnergy dem_energy<D>(const DemModel<D>&, const DemState<D>&);                          \
+  template double dem_pair_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t); \
+  template double dem_plane_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t);
+XFDEM_INSTANTIATE(1)
+XFDEM_INSTANTIATE(2)
+XFDEM_INSTANTIATE(3)
+#undef XFDEM_INSTANTIATE
+
+}  // namespace xfdem

@@ -1,0 +1,25 @@
+// Runs a loaded scene and writes its probes as CSV (scenes.md: "Overrides and
+// output"). Used by `xfdem run` and by the tests.
+#pragma once
+#include <cstdint>
+#include <ostream>
+#include <string>
+
+#include "scene/scene.hpp"
+
+namespace xfdem::scene {
+
+struct RunSummary {
+  std::int64_t steps = 0;
+  double wall_seconds = 0;
+  double mean_step_seconds = 0;
+  double worst_step_seconds = 0;
+};
+
+/// Builds the scene's models, steps to time.end, writes the header and one row
+/// per output.every to `csv`. Throws SceneError on a build failure (message
+/// names the field) and on a step status other than ok (message names the flag
+/// and the step).
+RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads = 1);
+
+}  // namespace xfdem::scene

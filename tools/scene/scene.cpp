@@ -1,0 +1,279 @@
+#include "scene/scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace xfdem::scene {
+namespace {
+
+/// n = a / b when a is (to round-off) an integer multiple of b, else -1.
+std::int64_t whole_multiple(double a, double b) {
+  const double q = a / b;
+  const double k = std::nearbyint(q);
+  if (k < 0 || std::fabs(q - k) > 1e-9 * std::max(1.0, k)) return -1;
+  return static_cast<std::int64_t>(k);
+}
+
+template <int D>
+std::array<double, D> to_array(const std::vector<double>& v) {
+  std::array<double, D> a{};
+  for (int d = 0; d < D; ++d) a[d] = v[static_cast<std::size_t>(d)];
+  return a;
+}
+
+template <int D>
+DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::string>& names,
+                     std::vector<std::string>& plane_names) {
+  DemDesc<D> desc;
+  desc.dt = scene.dt / scene.dem_substeps;
+  desc.gravity = to_array<D>(scene.gravity);
+  const std::string integrator =
+      dem.choice_or("integrator", "abm4", {"abm4", "abm4_events", "verlet", "rk4", "symplectic_euler"});
+  if (integrator == "abm4") desc.integrator = DemIntegrator::abm4;
+  if (integrator == "abm4_events") desc.integrator = DemIntegrator::abm4_events;
+  if (integrator == "verlet") desc.integrator = DemIntegrator::verlet;
+  if (integrator == "rk4") desc.integrator = DemIntegrator::rk4;
+  if (integrator == "symplectic_euler") desc.integrator = DemIntegrator::symplectic_euler;
+  if (dem.has("contact")) {
+    ObjectReader contact = dem.object("contact");
+    desc.law = contact.choice_or("law", "linear", {"linear", "linear_nontensile"}) == "linear"
+                   ? ContactLaw::linear
+                   : ContactLaw::linear_nontensile;
+    desc.damping_ratio = contact.real_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
+    contact.finish();
+  }
+  desc.skin = dem.real_or("skin", 0.0, kNonNegative);
+  desc.all_pairs_up_to = static_cast<std::int32_t>(dem.integer_or("all_pairs_up_to", 8, 0, 1 << 16));
+  desc.reject_unstable_dt = !dem.boolean_or("allow_unstable_dt", false);
+  if (dem.has("capacities")) {
+    ObjectReader caps = dem.object("capacities");
+    constexpr long long kMax = 400'000'000;
+    desc.capacities.max_pairs = static_cast<std::int32_t>(caps.integer_or("max_pairs", 0, 0, kMax));
+    desc.capacities.max_neighbors_per_particle =
+        static_cast<std::int32_t>(caps.integer_or("max_neighbors_per_particle", 0, 0, 1 << 20));
+    desc.capacities.max_grid_cells = static_cast<std::int32_t>(caps.integer_or("max_grid_cells", 0, 0, kMax));
+    desc.capacities.max_events_per_step = static_cast<std::int32_t>(caps.integer_or("max_events_per_step", 0, 0, 1 << 20));
+    caps.finish();
+  }
+  std::map<std::string, std::string> seen;  // name -> path
+  for (const auto& [value, path] : dem.array("particles")) {
+    ObjectReader p(*value, path);
+    ParticleDesc<D> particle;
+    const std::string name = p.has("name") ? p.text("name") : "p" + std::to_string(names.size() + 1);
+    if (name.empty() || name == "bar") p.fail("name", "'" + name + "' is reserved or empty");
+    if (seen.count(name)) p.fail("name", "'" + name + "' is also the name of " + seen[name]);
+    seen[name] = path;
+    particle.mass = p.real("mass", kPositive);
+    particle.radius = p.real("radius", kPositive);
+    particle.stiffness = p.real("stiffness", kPositive);
+    particle.position = to_array<D>(p.vector("position", D));
+    particle.velocity = p.has("velocity") ? to_array<D>(p.vector("velocity", D)) : std::array<double, D>{};
+    p.finish();
+    names.push_back(name);
+    desc.particles.push_back(particle);
+  }
+  if (dem.has("planes")) {
+    for (const auto& [value, path] : dem.array("planes")) {
+      ObjectReader p(*value, path);
+      PlaneDesc<D> plane;
+      const std::string name = p.has("name") ? p.text("name") : "plane" + std::to_string(plane_names.size());
+      if (seen.count(name)) p.fail("name", "'" + name + "' is also the name of " + seen[name]);
+      seen[name] = path;
+      plane.point = to_array<D>(p.vector("point", D));
+      const auto normal = p.vector("normal", D);
+      double len2 = 0;
+      for (double c : normal) len2 += c * c;
+      if (!(len2 > 0)) p.fail("normal", "must not be the zero vector");
+      plane.normal = to_array<D>(normal);
+      p.finish();
+      plane_names.push_back(name);
+      desc.planes.push_back(plane);
+    }
+  }
+  return desc;
+}
+
+}  // namespace
+
+void apply_override(Json& document, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError("--set '" + assignment + "': expected KEY.PATH=VALUE");
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  Json value;
+  try {
+    value = Json::parse(text);
+  } catch (const Json::parse_error&) {
+    value = text;  // a bare word such as rk4
+  }
+  Json* node = &document;
+  std::stringstream parts(path);
+  std::string part, walked;
+  std::vector<std::string> keys;
+  while (std::getline(parts, part, '.')) keys.push_back(part);
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::string& key = keys[k];
+    const bool last = k + 1 == keys.size();
+    walked = join_path(walked, key);
+    if (key.empty()) throw SceneError("--set '" + path + "': empty path component");
+    if (node->is_array()) {
+      std::size_t index = 0;
+      try {
+        std::size_t used = 0;
+        index = std::stoul(key, &used);
+        if (used != key.size()) throw std::invalid_argument(key);
+      } catch (const std::exception&) {
+        throw SceneError("--set '" + path + "': '" + walked + "' indexes an array and must be a number");
+      }
+      if (index >= node->size())
+        throw SceneError("--set '" + path + "': '" + walked + "' is past the end of the array (size " +
+                         std::to_string(node->size()) + ")");
+      node = &(*node)[index];
+    } else if (node->is_object()) {
+      if (!last && !node->contains(key)) (*node)[key] = Json::object();
+      node = &(*node)[key];
+    } else {
+      throw SceneError("--set '" + path + "': '" + walked + "' is inside a value that is not an object or array");
+    }
+  }
+  *node = value;
+}
+
+Scene parse_scene(const Json& document) {
+  Scene scene;
+  ObjectReader top(document, "");
+  scene.name = top.has("name") ? top.text("name") : "scene";
+  scene.dimension = static_cast<int>(top.integer("dimension", 1, 3));
+  scene.gravity = top.has("gravity") ? top.vector("gravity", static_cast<std::size_t>(scene.dimension))
+                                     : std::vector<double>(static_cast<std::size_t>(scene.dimension), 0.0);
+  {
+    ObjectReader time = top.object("time");
+    scene.end = time.real("end", kPositive);
+    scene.dt = time.real("dt", kPositive);
+    scene.dem_substeps = static_cast<int>(time.integer_or("dem_substeps", 1, 1, 1'000'000));
+    time.finish();
+    scene.steps = whole_multiple(scene.end, scene.dt);
+    if (scene.steps < 1) time.fail("end", "must be a whole multiple of time.dt");
+    if (scene.steps > 4'000'000'000LL) time.fail("end", "needs more than 4e9 steps");
+  }
+  scene.has_continuum = top.has("continuum");
+  if (scene.has_continuum) {
+    ObjectReader continuum = top.object("continuum");
+    continuum.fail("type", "the continuum is not available in this build (DEM-only scenes)");
+  } else if (scene.dem_substeps != 1) {
+    throw SceneError("scene key 'time.dem_substeps': must be 1 (or absent) in a scene without a continuum");
+  }
+  if (scene.dimension == 3 && scene.has_continuum)
+    throw SceneError("scene key 'dimension': 3 is for DEM-only scenes");
+
+  std::vector<std::string> plane_names;
+  if (top.has("dem")) {
+    ObjectReader dem = top.object("dem");
+    switch (scene.dimension) {
+      case 1: scene.dem = parse_dem<1>(dem, scene, scene.particle_names, plane_names); break;
+      case 2: scene.dem = parse_dem<2>(dem, scene, scene.particle_names, plane_names); break;
+      default: scene.dem = parse_dem<3>(dem, scene, scene.particle_names, plane_names); break;
+    }
+    dem.finish();
+  }
+
+  auto particle_index = [&](const std::string& name) {
+    for (std::size_t i = 0; i < scene.particle_names.size(); ++i)
+      if (scene.particle_names[i] == name) return static_cast<int>(i);
+    return -1;
+  };
+  auto plane_index = [&](const std::string& name) {
+    for (std::size_t i = 0; i < plane_names.size(); ++i)
+      if (plane_names[i] == name) return static_cast<int>(i);
+    return -1;
+  };
+
+  ObjectReader output = top.object("output");
+  const double every = output.real("every", kPositive);
+  scene.output_stride = whole_multiple(every, scene.dt);
+  if (scene.output_stride < 1) output.fail("every", "must be a whole multiple of time.dt");
+  std::map<std::string, std::string> probe_names;
+  for (const auto& [value, path] : output.array("probes")) {
+    ObjectReader p(*value, path);
+    Probe probe;
+    probe.name = p.text("name");
+    if (probe.name.empty() || probe.name == "t" || probe.name.find_first_of(",\"\n") != std::string::npos)
+      p.fail("name", "'" + probe.name + "' cannot be a CSV column name");
+    if (probe_names.count(probe.name)) p.fail("name", "'" + probe.name + "' is also the name of " + probe_names[probe.name]);
+    probe_names[probe.name] = path;
+    const std::string quantity = p.choice("quantity", {"position", "velocity", "displacement", "contact_force",
+                                                       "interface_gap", "energy"});
+    if (quantity == "energy") {
+      const std::string of = p.choice("of", {"total", "kinetic", "elastic", "potential"});
+      probe.kind = of == "total"     ? Probe::Kind::energy_total
+                   : of == "kinetic" ? Probe::Kind::energy_kinetic
+                   : of == "elastic" ? Probe::Kind::energy_elastic
+                                     : Probe::Kind::energy_potential;
+    } else if (quantity == "contact_force") {
+      const Json& between = p.raw("between");
+      if (!between.is_array() || between.size() != 2 || !between[0].is_string() || !between[1].is_string())
+        p.fail("between", "expected two names, e.g. [\"p1\", \"p2\"] or [\"p1\", \"bar\"]");
+      const std::string a = between[0].get<std::string>(), b = between[1].get<std::string>();
+      const int ia = particle_index(a), ib = particle_index(b);
+      if (ia < 0 && ib < 0) p.fail("between", "neither '" + a + "' nor '" + b + "' is a particle");
+      const int pi = ia >= 0 ? ia : ib;
+      const std::string other = ia >= 0 ? b : a;
+      probe.particle = pi;
+      if (other == "bar") {
+        if (!scene.has_continuum) p.fail("between", "'bar' named but the scene has no continuum");
+        probe.kind = Probe::Kind::bar_contact_force;
+      } else if (particle_index(other) >= 0) {
+        if (particle_index(other) == pi) p.fail("between", "a particle cannot touch itself");
+        probe.kind = Probe::Kind::pair_force;
+        probe.other = particle_index(other);
+      } else if (plane_index(other) >= 0) {
+        probe.kind = Probe::Kind::plane_force;
+        probe.other = plane_index(other);
+      } else {
+        p.fail("between", "'" + other + "' is not a particle, a plane or 'bar'");
+      }
+    } else if (quantity == "interface_gap") {
+      if (!scene.has_continuum) p.fail("quantity", "interface_gap needs a continuum");
+      probe.kind = Probe::Kind::interface_gap;
+    } else if (p.has("particle")) {
+      if (quantity == "displacement") p.fail("quantity", "particles have position and velocity, not displacement");
+      const std::string name = p.text("particle");
+      probe.particle = particle_index(name);
+      if (probe.particle < 0) p.fail("particle", "'" + name + "' is not a particle of this scene");
+      probe.kind = quantity == "position" ? Probe::Kind::particle_position : Probe::Kind::particle_velocity;
+      probe.component = static_cast<int>(p.integer_or("component", 0, 0, scene.dimension - 1));
+    } else if (p.has("bar_at")) {
+      if (!scene.has_continuum) p.fail("bar_at", "the scene has no continuum");
+      if (quantity == "position") p.fail("quantity", "the bar has displacement and velocity, not position");
+      probe.bar_at = p.real("bar_at");
+      probe.kind = quantity == "velocity" ? Probe::Kind::bar_velocity : Probe::Kind::bar_displacement;
+    } else {
+      p.fail("quantity", "'" + quantity + "' needs \"particle\" or \"bar_at\"");
+    }
+    p.finish();
+    scene.probes.push_back(probe);
+  }
+  output.finish();
+  top.finish();
+  if (std::holds_alternative<std::monostate>(scene.dem) && !scene.has_continuum)
+    throw SceneError("scene: has neither a 'dem' nor a 'continuum' block; nothing to simulate");
+  return scene;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw SceneError("cannot open scene file '" + path + "'");
+  Json document;
+  try {
+    document = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    throw SceneError("scene file '" + path + "' is not valid JSON: " + e.what());
+  }
+  for (const auto& o : overrides) apply_override(document, o);
+  return parse_scene(document);
+}
+
+}  // namespace xfdem::scene

@@ -1,0 +1,66 @@
+// A scene file (shared spec: scenes.md) turned into kernel descriptions.
+// load_scene() validates everything before anything runs: a bad key or value is
+// a SceneError naming it.
+#pragma once
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "scene/json_reader.hpp"
+#include "xfdem/dem.hpp"
+
+namespace xfdem::scene {
+
+/// What a probe measures. Particle and contact probes refer to particles by
+/// index once loaded.
+struct Probe {
+  enum class Kind {
+    particle_position,
+    particle_velocity,
+    pair_force,
+    plane_force,
+    bar_contact_force,
+    bar_displacement,
+    bar_velocity,
+    interface_gap,
+    energy_total,
+    energy_kinetic,
+    energy_elastic,
+    energy_potential,
+  };
+  std::string name;
+  Kind kind = Kind::energy_total;
+  int particle = -1;   ///< particle index (position, velocity, contact forces)
+  int other = -1;      ///< second particle or plane index
+  int component = 0;   ///< axis for position and velocity
+  double bar_at = 0;   ///< coordinate along the bar (m)
+};
+
+struct Scene {
+  std::string name;
+  int dimension = 1;
+  std::vector<double> gravity;  ///< one entry per axis
+  double end = 0;               ///< s
+  double dt = 0;                ///< s, continuum step (or particle step without continuum)
+  int dem_substeps = 1;
+  std::int64_t steps = 0;       ///< end / dt
+  std::int64_t output_stride = 1;  ///< steps between CSV rows
+  /// Particles and planes, for the scene's dimension (empty variant: no `dem`).
+  std::variant<std::monostate, DemDesc<1>, DemDesc<2>, DemDesc<3>> dem;
+  std::vector<std::string> particle_names;
+  bool has_continuum = false;
+  std::vector<Probe> probes;
+};
+
+/// Applies one `--set key.path=value` override to a parsed JSON document.
+/// Array elements are addressed by index ("dem.particles.0.mass"); the value is
+/// read as JSON when it parses as JSON, otherwise as a string.
+void apply_override(Json& document, const std::string& assignment);
+
+/// Reads, overrides and validates a scene file.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides);
+/// Same, from an already parsed document.
+Scene parse_scene(const Json& document);
+
+}  // namespace xfdem::scene
