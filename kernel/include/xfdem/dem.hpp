@@ -222,6 +222,17 @@ double dem_stable_step_factor(DemIntegrator integrator, double damping_ratio);
 /// δ'' + 2ζω δ' + ω² δ = 0 at ω h = y (what dem_stable_step_factor inspects).
 double dem_amplification(DemIntegrator integrator, double damping_ratio, double y);
 
+/// Model, state and workspace of one world, for callers who do not need them
+/// apart (the split exists so that many states can share one model).
+template <int D>
+struct DemWorld {
+  DemModel<D> model;
+  DemState<D> state;
+  DemWorkspace<D> workspace;
+  BuildResult build(const DemDesc<D>& desc) { return build_dem(desc, model, state, workspace); }
+  StepStatus step() { return dem_step(model, state, workspace); }
+};
+
 // ---- probes (read the current state; cheap, allocation-free) --------------
 
 struct DemEnergy {

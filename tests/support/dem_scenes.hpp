@@ -1,0 +1,93 @@
+// Small scenes the DEM tests share, and measurement helpers.
+#pragma once
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "support/drop_closed_form.hpp"
+#include "xfdem/dem.hpp"
+
+namespace xfdem::testing {
+
+/// The V1 drop test as a 1D scene (plane at 0, normal up).
+inline DemDesc<1> drop_scene(const DropParameters& p, DemIntegrator integrator, double dt) {
+  DemDesc<1> d;
+  d.gravity = {-p.g};
+  d.law = ContactLaw::linear;
+  d.damping_ratio = p.zeta;
+  d.integrator = integrator;
+  d.dt = dt;
+  d.particles.push_back({p.mass, p.radius, p.stiffness, {p.y0}, {0.0}});
+  d.planes.push_back({{0.0}, {1.0}});
+  return d;
+}
+
+/// A sample of a 1D trajectory.
+struct Sample {
+  double t, y, v;
+};
+
+/// Cubic Hermite interpolant through two samples, evaluated at t.
+inline double hermite(const Sample& a, const Sample& b, double t) {
+  const double h = b.t - a.t, s = (t - a.t) / h;
+  const double h00 = (1 + 2 * s) * (1 - s) * (1 - s), h10 = s * (1 - s) * (1 - s), h01 = s * s * (3 - 2 * s),
+               h11 = s * s * (s - 1);
+  return h00 * a.y + h10 * h * a.v + h01 * b.y + h11 * h * b.v;
+}
+
+/// Time at which the Hermite interpolant crosses `level` between a and b.
+inline double crossing(const Sample& a, const Sample& b, double level) {
+  return bisect([&](double t) { return hermite(a, b, t) - level; }, a.t, b.t);
+}
+
+/// Vertex of the parabola through three equally spaced samples (exact for
+/// free flight, O(h^3) elsewhere): returns the extreme value.
+inline double parabola_extreme(double y0, double y1, double y2) {
+  const double denom = y0 - 2 * y1 + y2;
+  if (denom == 0) return y1;
+  const double s = 0.5 * (y0 - y2) / denom;  // offset of the vertex from the middle, in steps
+  return y1 - 0.25 * (y0 - y2) * s;
+}
+
+/// Contact-by-contact measurements of a simulated drop.
+struct MeasuredBounce {
+  double t_impact = 0, t_release = 0, max_overlap = 0, apex_after = NAN;
+};
+
+/// Runs a 1D drop world to t_end and measures each contact: touch-down and
+/// release times (Hermite-interpolated crossings of y = r), the maximum
+/// overlap and the apex of the following flight (parabola through the samples
+/// around the extreme).
+inline std::vector<MeasuredBounce> measure_drop(DemWorld<1>& world, double radius, double t_end) {
+  std::vector<Sample> samples;
+  const auto steps = static_cast<long>(std::llround(t_end / world.model.dt));
+  samples.reserve(static_cast<std::size_t>(steps) + 1);
+  samples.push_back({0.0, world.state.x[0][0], world.state.v[0][0]});
+  for (long n = 0; n < steps; ++n) {
+    if (world.step() != StepStatus::ok) break;
+    samples.push_back({world.state.time, world.state.x[0][0], world.state.v[0][0]});
+  }
+  std::vector<MeasuredBounce> out;
+  MeasuredBounce* open = nullptr;
+  for (std::size_t k = 1; k < samples.size(); ++k) {
+    const bool was_in = samples[k - 1].y < radius, is_in = samples[k].y < radius;
+    if (!was_in && is_in) {
+      out.push_back({});
+      open = &out.back();
+      open->t_impact = crossing(samples[k - 1], samples[k], radius);
+      open->t_release = NAN;
+    } else if (was_in && !is_in && open) {
+      open->t_release = crossing(samples[k - 1], samples[k], radius);
+    }
+    if (k + 1 < samples.size()) {
+      const double y0 = samples[k - 1].y, y1 = samples[k].y, y2 = samples[k + 1].y;
+      if (open && y1 <= y0 && y1 < y2 && is_in)  // deepest point of a contact
+        open->max_overlap = std::max(open->max_overlap, radius - parabola_extreme(y0, y1, y2));
+      if (open && y1 >= y0 && y1 > y2 && !is_in && std::isnan(open->apex_after))  // apex of the flight
+        open->apex_after = parabola_extreme(y0, y1, y2);
+    }
+  }
+  return out;
+}
+
+}  // namespace xfdem::testing
