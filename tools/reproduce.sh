@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The main job: installs the dependencies, builds the Release preset, runs
+# every validation scene listed in tools/validation/runs.txt into out/NAME.csv,
+# and writes the validation report (figures and error tables) to out/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash tools/setup.sh
+
+log=build/reproduce-build.log
+mkdir -p build out
+echo "reproduce: building the release preset (log: $log)"
+if ! { cmake --preset release && cmake --build --preset release; } >"$log" 2>&1; then
+  tail -n 60 "$log" >&2
+  echo "reproduce: build failed (full log: $log)" >&2
+  exit 1
+fi
+
+XFDEM=build/release/tools/xfdem
+while read -r name scene overrides; do
+  [[ -z "$name" || "$name" == \#* ]] && continue
+  sets=()
+  for kv in $overrides; do
+    [[ "$kv" == \#* ]] && break
+    sets+=(--set "$kv")
+  done
+  echo "reproduce: $name: xfdem run $scene ${sets[*]} --csv out/$name.csv"
+  "$XFDEM" run "$scene" "${sets[@]}" --csv "out/$name.csv"
+done < tools/validation/runs.txt
+
+/usr/bin/python3 tools/validation/report.py --out out

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The test command: installs the dependencies, then builds and runs the test
+# suite twice, in Release and under AddressSanitizer + UBSan (Debug).
+# Build output goes to build/<preset>-build.log and is shown only on failure;
+# ctest's summary lines are printed, its full output on failure.
+# Exits non-zero on any failure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash tools/setup.sh
+mkdir -p build
+
+run_preset() {
+  local preset=$1 blog=build/$1-build.log tlog=build/$1-ctest.log start=$SECONDS
+  echo "test: [$preset] configure + build (log: $blog)"
+  if ! { cmake --preset "$preset" && cmake --build --preset "$preset"; } </dev/null >"$blog" 2>&1; then
+    tail -n 80 "$blog" >&2
+    echo "test: [$preset] build FAILED after $((SECONDS - start)) s (full log: $blog)" >&2
+    return 1
+  fi
+  local built=$SECONDS
+  echo "test: [$preset] built in $((built - start)) s; ctest --preset $preset"
+  if ! ctest --preset "$preset" </dev/null >"$tlog" 2>&1; then
+    cat "$tlog" >&2
+    echo "test: [$preset] ctest FAILED after $((SECONDS - built)) s (log: $tlog)" >&2
+    return 1
+  fi
+  # the summary: "N% tests passed, ...", label times, "Total Test time"
+  sed -n '/tests passed/,$p' "$tlog"
+  echo "test: [$preset] tests ran in $((SECONDS - built)) s"
+}
+
+status=0
+run_preset release || status=1
+run_preset debug-asan || status=1
+if [[ $status -ne 0 ]]; then
+  echo "test: FAILED" >&2
+else
+  echo "test: all presets passed in $SECONDS s"
+fi
+exit $status
