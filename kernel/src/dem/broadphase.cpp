@@ -11,6 +11,7 @@
 // deterministic without any sort of equal keys.
 #include <cmath>
 
+#include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
 
 namespace xfdem::dem_detail {
@@ -130,14 +131,10 @@ StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
     }
     s.pair_j[k] = j;
   }
-  const double zeta = m.damping_ratio;
   for (std::int32_t c = 0; c < count; ++c) {
-    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
-    const double ki = m.stiffness[i], kj = m.stiffness[j];
-    const double K = ki * kj / (ki + kj);
-    const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
-    s.pair_stiffness[c] = K;
-    s.pair_eta[c] = 2.0 * zeta * std::sqrt(K * m_eff);
+    const PairParameters pp = pair_parameters(m, s.pair_i[c], s.pair_j[c]);
+    s.pair_stiffness[c] = pp.stiffness;
+    s.pair_eta[c] = pp.eta;
   }
   s.pair_count = count;
   s.peak_pairs = std::max(s.peak_pairs, count);

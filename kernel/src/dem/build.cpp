@@ -5,6 +5,7 @@
 #include <map>
 #include <utility>
 
+#include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
 
 namespace xfdem {
@@ -235,12 +236,11 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     std::int32_t c = 0;
     for (std::int32_t i = 0; i < m.n; ++i)
       for (std::int32_t j = i + 1; j < m.n; ++j, ++c) {
-        const double ki = m.stiffness[i], kj = m.stiffness[j];
-        const double K = ki * kj / (ki + kj);
+        const dem_detail::PairParameters pp = dem_detail::pair_parameters(m, i, j);
         s.pair_i[c] = i;
         s.pair_j[c] = j;
-        s.pair_stiffness[c] = K;
-        s.pair_eta[c] = 2.0 * desc.damping_ratio * std::sqrt(K * m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]));
+        s.pair_stiffness[c] = pp.stiffness;
+        s.pair_eta[c] = pp.eta;
       }
     s.pair_count = c;
     s.pairs_valid = 1;

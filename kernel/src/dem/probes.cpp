@@ -1,6 +1,7 @@
 // Read-only measurements of a DEM state, for the tools and tests.
 #include <cmath>
 
+#include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
 
 namespace xfdem {
@@ -62,10 +63,7 @@ DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
   for (std::int32_t i = 0; i < m.n; ++i)
     for (std::int32_t j = i + 1; j < m.n; ++j) {
       const double overlap = pair_overlap(m, s, i, j, nullptr);
-      if (overlap > 0) {
-        const double K = m.stiffness[i] * m.stiffness[j] / (m.stiffness[i] + m.stiffness[j]);
-        e.elastic += 0.5 * K * overlap * overlap;
-      }
+      if (overlap > 0) e.elastic += 0.5 * dem_detail::pair_parameters(m, i, j).stiffness * overlap * overlap;
     }
   return e;
 }
@@ -75,9 +73,8 @@ double dem_pair_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t i
   if (i < 0 || j < 0 || i >= m.n || j >= m.n || i == j) return NAN;
   double rate = 0;
   const double overlap = pair_overlap(m, s, i, j, &rate);
-  const double K = m.stiffness[i] * m.stiffness[j] / (m.stiffness[i] + m.stiffness[j]);
-  const double eta = 2.0 * m.damping_ratio * std::sqrt(K * m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]));
-  return contact_force(m, K, eta, overlap, rate);
+  const dem_detail::PairParameters pp = dem_detail::pair_parameters(m, i, j);
+  return contact_force(m, pp.stiffness, pp.eta, overlap, rate);
 }
 
 template <int D>
