@@ -108,6 +108,8 @@ void apply_override(Json& document, const std::string& assignment) {
     value = Json::parse(text);
   } catch (const Json::parse_error&) {
     value = text;  // a bare word such as rk4
+  } catch (const Json::exception&) {
+    throw SceneError("scene key '" + path + "': value '" + text + "' is not a finite number");
   }
   Json* node = &document;
   std::stringstream parts(path);
@@ -269,7 +271,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   Json document;
   try {
     document = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {
     throw SceneError("scene file '" + path + "' is not valid JSON: " + e.what());
   }
   for (const auto& o : overrides) apply_override(document, o);
