@@ -24,7 +24,7 @@ while read -r name scene overrides; do
     [[ "$kv" == \#* ]] && break
     sets+=(--set "$kv")
   done
-  echo "reproduce: $name: xfdem run $scene ${sets[*]} --csv out/$name.csv"
+  echo "reproduce: $name: xfdem run $scene${sets[*]:+ ${sets[*]}} --csv out/$name.csv"
   "$XFDEM" run "$scene" "${sets[@]}" --csv "out/$name.csv"
 done < tools/validation/runs.txt
 

@@ -10,6 +10,15 @@ cd "$(dirname "$0")/.."
 bash tools/setup.sh
 mkdir -p build
 
+passed=0 failed=0
+count() {  # add up "N% tests passed, F tests failed out of T"
+  local line f t
+  line=$(grep -E 'tests passed, [0-9]+ tests? failed out of [0-9]+' "$1" | tail -n 1) || return 0
+  f=$(sed -E 's/.*passed, ([0-9]+) tests? failed out of ([0-9]+).*/\1/' <<<"$line")
+  t=$(sed -E 's/.*passed, ([0-9]+) tests? failed out of ([0-9]+).*/\2/' <<<"$line")
+  passed=$((passed + t - f)) failed=$((failed + f))
+}
+
 run_preset() {
   local preset=$1 blog=build/$1-build.log tlog=build/$1-ctest.log start=$SECONDS
   echo "test: [$preset] configure + build (log: $blog)"
@@ -22,11 +31,13 @@ run_preset() {
   echo "test: [$preset] built in $((built - start)) s; ctest --preset $preset"
   if ! ctest --preset "$preset" </dev/null >"$tlog" 2>&1; then
     cat "$tlog" >&2
+    count "$tlog"
     echo "test: [$preset] ctest FAILED after $((SECONDS - built)) s (log: $tlog)" >&2
     return 1
   fi
   # the summary: "N% tests passed, ...", label times, "Total Test time"
   sed -n '/tests passed/,$p' "$tlog"
+  count "$tlog"
   echo "test: [$preset] tests ran in $((SECONDS - built)) s"
 }
 
@@ -34,8 +45,9 @@ status=0
 run_preset release || status=1
 run_preset debug-asan || status=1
 if [[ $status -ne 0 ]]; then
-  echo "test: FAILED" >&2
+  echo "test: FAILED after $SECONDS s" >&2
 else
-  echo "test: all presets passed in $SECONDS s"
+  echo "test: release and debug-asan passed in $SECONDS s"
 fi
+echo "test: $passed passed, $failed failed"
 exit $status

@@ -108,13 +108,19 @@ def format_table(t):
     lines = [t["title"], "  ".join(c.ljust(w[i]) for i, c in enumerate(cols))]
     lines.append("  ".join("-" * x for x in w))
     lines += ["  ".join(r[i].ljust(w[i]) for i in range(len(cols))) for r in rows]
+    if t.get("note"):
+        lines.append(t["note"])
     return "\n".join(lines)
 
 
 def markdown_table(t):
-    lines = [f"**{t['title']}**", "", "| " + " | ".join(t["columns"]) + " |",
+    def cell(x):
+        return x.replace("|", "\\|")
+    lines = [f"**{t['title']}**", "", "| " + " | ".join(map(cell, t["columns"])) + " |",
              "|" + "|".join("---" for _ in t["columns"]) + "|"]
-    lines += ["| " + " | ".join(r) + " |" for r in t["rows"]]
+    lines += ["| " + " | ".join(map(cell, r)) + " |" for r in t["rows"]]
+    if t.get("note"):
+        lines += ["", t["note"]]
     return "\n".join(lines)
 
 
