@@ -33,6 +33,117 @@ StepStatus refresh_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
+/// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i). One pass over
+/// the particles testing every plane, so positions are read once, not once per
+/// plane; contributions to a particle still come in plane order.
+template <int D, bool Damped, bool NonTensile>
+void plane_forces(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) {
+  constexpr std::size_t kMaxFastPlanes = 8;
+  const std::size_t planes = m.plane_point.size();
+  if (planes == 0) return;
+  // Cheap screen for axis-aligned planes (one non-zero normal component): for
+  // finite positions the other terms of the gap are ±0, so the one-term gap
+  // gives the same overlap; a pass is then re-tested with the full formula.
+  int axis[kMaxFastPlanes];
+  const bool screen = planes <= kMaxFastPlanes;
+  for (std::size_t p = 0; screen && p < planes; ++p) {
+    int nonzero = 0, which = 0;
+    for (int d = 0; d < D; ++d)
+      if (m.plane_normal[p][d] != 0.0) ++nonzero, which = d;
+    axis[p] = nonzero == 1 ? which : -1;
+  }
+  const double* radius = m.radius.data();
+  const double* inv_mass = m.inv_mass.data();
+  const double* stiffness = m.stiffness.data();
+  const double* plane_eta = m.plane_eta.data();
+  for (std::int32_t i = 0; i < m.n; ++i) {
+    for (std::size_t p = 0; p < planes; ++p) {
+      const auto& point = m.plane_point[p];
+      const auto& normal = m.plane_normal[p];
+      if (screen && axis[p] >= 0) {
+        const int d = axis[p];
+        if (!(radius[i] - (x[d][i] - point[d]) * normal[d] > 0)) continue;
+      }
+      double gap = 0;
+      for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * normal[d];
+      const double overlap = radius[i] - gap;
+      if (!(overlap > 0)) continue;
+      double rate = 0;
+      if constexpr (Damped)
+        for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
+      const double force = normal_force<Damped, NonTensile>(stiffness[i], plane_eta[i], overlap, rate);
+      const double scaled = force * inv_mass[i];
+      for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
+    }
+  }
+}
+
+/// Plain-mode particle–particle contacts from the pair list, in list order.
+/// In a dense packing about half of the listed pairs do not touch, in no
+/// pattern a branch predictor can learn; so the list is screened in chunks
+/// without branches (indices of touching pairs compacted into a stack buffer),
+/// then only the touching pairs are evaluated.
+template <int D, bool Damped, bool NonTensile>
+StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<D> x, ConstColumns<D> v,
+                       Columns<D> a) {
+  constexpr std::int32_t kChunk = 512;
+  std::int32_t touching[kChunk];
+  const double* radius = m.radius.data();
+  const double* inv_mass = m.inv_mass.data();
+  const std::int32_t* pi = s.pair_i.data();
+  const std::int32_t* pj = s.pair_j.data();
+  const double* pair_k = s.pair_stiffness.data();
+  const double* pair_eta = s.pair_eta.data();
+  const std::int32_t count = s.pair_count;
+  StepStatus status = StepStatus::ok;
+  for (std::int32_t c0 = 0; c0 < count; c0 += kChunk) {
+    const std::int32_t c1 = std::min(count, c0 + kChunk);
+    std::int32_t hits = 0;
+    for (std::int32_t c = c0; c < c1; ++c) {
+      const std::int32_t i = pi[c], j = pj[c];
+      double dist2 = 0;
+      for (int d = 0; d < D; ++d) {
+        const double dx = x[d][j] - x[d][i];
+        dist2 += dx * dx;
+      }
+      const double reach = radius[i] + radius[j];
+      touching[hits] = c;
+      hits += dist2 < reach * reach ? 1 : 0;  // false for NaN, as before
+    }
+    for (std::int32_t h = 0; h < hits; ++h) {
+      const std::int32_t c = touching[h];
+      const std::int32_t i = pi[c], j = pj[c];
+      double dx[D];
+      double dist2 = 0;
+      for (int d = 0; d < D; ++d) {
+        dx[d] = x[d][j] - x[d][i];
+        dist2 += dx[d] * dx[d];
+      }
+      const double reach = radius[i] + radius[j];
+      const double dist = std::sqrt(dist2);
+      double normal[D];
+      if (dist > 0) [[likely]] {
+        for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
+      } else {
+        // Coincident centres: no direction is better than another; take the
+        // first axis and report it.
+        for (int d = 0; d < D; ++d) normal[d] = d == 0 ? 1.0 : 0.0;
+        status |= StepStatus::coincident_centres;
+      }
+      double rate = 0;
+      if constexpr (Damped)
+        for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
+      const double force = normal_force<Damped, NonTensile>(pair_k[c], pair_eta[c], reach - dist, rate);
+      const double fi = force * inv_mass[i], fj = force * inv_mass[j];
+      for (int d = 0; d < D; ++d) {
+        a[d][i] -= fi * normal[d];
+        a[d][j] += fj * normal[d];
+      }
+    }
+  }
+  return status;
+}
+
 /// a = g + Σ contact forces / m at the state (x, v).
 /// Frozen: a contact is on iff it was on at the interval start (w.mode_x,
 /// w.mode_v), and then follows the unclamped linear law even past δ = 0; the
@@ -47,6 +158,16 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     double* ad = a[d];
     for (std::int32_t i = 0; i < n; ++i) ad[i] = g;
   }
+  if constexpr (!Frozen) {
+    plane_forces<D, Damped, NonTensile>(m, x, v, a);
+    if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
+    if (m.features.broad_phase == BroadPhase::grid) {
+      const StepStatus status = refresh_pair_list<D>(m, s, w, x);
+      if (has(status, kStepNotTaken) || has(status, StepStatus::non_finite)) return status;
+    }
+    return pair_forces<D, Damped, NonTensile>(m, s, x, v, a);
+  }
+  // Frozen mode (abm4_events, meant for few particles): plain loops.
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const double* stiffness = m.stiffness.data();
@@ -61,20 +182,16 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
       double gap = 0;
       for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * normal[d];
       const double overlap = radius[i] - gap;
-      if constexpr (Frozen) {
-        double gap0 = 0, rate0 = 0;
-        for (int d = 0; d < D; ++d) {
-          gap0 += (w.mode_x[d][i] - point[d]) * normal[d];
-          rate0 -= w.mode_v[d][i] * normal[d];
-        }
-        if (!(contact_indicator(NonTensile, radius[i] - gap0, rate0, stiffness[i], plane_eta[i]) > 0)) continue;
-      } else {
-        if (!(overlap > 0)) continue;
+      double gap0 = 0, rate0 = 0;
+      for (int d = 0; d < D; ++d) {
+        gap0 += (w.mode_x[d][i] - point[d]) * normal[d];
+        rate0 -= w.mode_v[d][i] * normal[d];
       }
+      if (!(contact_indicator(NonTensile, radius[i] - gap0, rate0, stiffness[i], plane_eta[i]) > 0)) continue;
       double rate = 0;
       if constexpr (Damped)
         for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
-      const double force = normal_force<Damped, NonTensile && !Frozen>(stiffness[i], plane_eta[i], overlap, rate);
+      const double force = normal_force<Damped, false>(stiffness[i], plane_eta[i], overlap, rate);
       const double scaled = force * inv_mass[i];
       for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
     }
@@ -101,34 +218,28 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
       dist2 += dx[d] * dx[d];
     }
     const double reach = radius[i] + radius[j];
-    if constexpr (Frozen) {
-      double dx0[D], dist0 = 0;
-      for (int d = 0; d < D; ++d) {
-        dx0[d] = w.mode_x[d][j] - w.mode_x[d][i];
-        dist0 += dx0[d] * dx0[d];
-      }
-      dist0 = std::sqrt(dist0);
-      double rate0 = 0;
-      if (dist0 > 0)
-        for (int d = 0; d < D; ++d) rate0 -= (w.mode_v[d][j] - w.mode_v[d][i]) * dx0[d] / dist0;
-      if (!(contact_indicator(NonTensile, reach - dist0, rate0, pair_k[c], pair_eta[c]) > 0)) continue;
-    } else {
-      if (!(dist2 < reach * reach)) continue;
+    double dx0[D], dist0 = 0;
+    for (int d = 0; d < D; ++d) {
+      dx0[d] = w.mode_x[d][j] - w.mode_x[d][i];
+      dist0 += dx0[d] * dx0[d];
     }
+    dist0 = std::sqrt(dist0);
+    double rate0 = 0;
+    if (dist0 > 0)
+      for (int d = 0; d < D; ++d) rate0 -= (w.mode_v[d][j] - w.mode_v[d][i]) * dx0[d] / dist0;
+    if (!(contact_indicator(NonTensile, reach - dist0, rate0, pair_k[c], pair_eta[c]) > 0)) continue;
     const double dist = std::sqrt(dist2);
     double normal[D];
     if (dist > 0) {
       for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
     } else {
-      // Coincident centres: no direction is better than another; take the
-      // first axis and report it.
       for (int d = 0; d < D; ++d) normal[d] = d == 0 ? 1.0 : 0.0;
       status |= StepStatus::coincident_centres;
     }
     double rate = 0;
     if constexpr (Damped)
       for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
-    const double force = normal_force<Damped, NonTensile && !Frozen>(pair_k[c], pair_eta[c], reach - dist, rate);
+    const double force = normal_force<Damped, false>(pair_k[c], pair_eta[c], reach - dist, rate);
     const double fi = force * inv_mass[i], fj = force * inv_mass[j];
     for (int d = 0; d < D; ++d) {
       a[d][i] -= fi * normal[d];
