@@ -3,6 +3,9 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "xfdem/dem.hpp"
 
@@ -95,6 +98,38 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
   const double* pair_k = s.pair_stiffness.data();
   const double* pair_eta = s.pair_eta.data();
   const std::int32_t count = s.pair_count;
+  // One touching pair, scalar.
+  auto one = [&](std::int32_t c) {
+    const std::int32_t i = pi[c], j = pj[c];
+    double dx[D];
+    double dist2 = 0;
+    for (int d = 0; d < D; ++d) {
+      dx[d] = x[d][j] - x[d][i];
+      dist2 += dx[d] * dx[d];
+    }
+    const double reach = radius[i] + radius[j];
+    const double dist = std::sqrt(dist2);
+    double normal[D];
+    StepStatus flag = StepStatus::ok;
+    if (dist > 0) [[likely]] {
+      for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
+    } else {
+      // Coincident centres: no direction is better than another; take the
+      // first axis and report it.
+      for (int d = 0; d < D; ++d) normal[d] = d == 0 ? 1.0 : 0.0;
+      flag = StepStatus::coincident_centres;
+    }
+    double rate = 0;
+    if constexpr (Damped)
+      for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
+    const double force = normal_force<Damped, NonTensile>(pair_k[c], pair_eta[c], reach - dist, rate);
+    const double fi = force * inv_mass[i], fj = force * inv_mass[j];
+    for (int d = 0; d < D; ++d) {
+      a[d][i] -= fi * normal[d];
+      a[d][j] += fj * normal[d];
+    }
+    return flag;
+  };
   StepStatus status = StepStatus::ok;
   for (std::int32_t c0 = 0; c0 < count; c0 += kChunk) {
     const std::int32_t c1 = std::min(count, c0 + kChunk);
@@ -110,36 +145,58 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
       touching[hits] = c;
       hits += dist2 < reach * reach ? 1 : 0;  // false for NaN, as before
     }
-    for (std::int32_t h = 0; h < hits; ++h) {
-      const std::int32_t c = touching[h];
-      const std::int32_t i = pi[c], j = pj[c];
-      double dx[D];
-      double dist2 = 0;
+    std::int32_t h = 0;
+#if defined(__SSE2__)
+    // Two pairs per pass in the two lanes of SSE2 (x86-64 baseline): the
+    // square root and the divisions, which dominate, issue once for both.
+    // Lanes do exactly the scalar operations, so the bits are the same, and
+    // the contributions are added in list order below.
+    for (; h + 1 < hits; h += 2) {
+      const std::int32_t ca = touching[h], cb = touching[h + 1];
+      const std::int32_t ia = pi[ca], ja = pj[ca], ib = pi[cb], jb = pj[cb];
+      const __m128d zero = _mm_setzero_pd();
+      __m128d dx[D];
+      __m128d dist2 = zero;
       for (int d = 0; d < D; ++d) {
-        dx[d] = x[d][j] - x[d][i];
-        dist2 += dx[d] * dx[d];
+        dx[d] = _mm_sub_pd(_mm_set_pd(x[d][jb], x[d][ja]), _mm_set_pd(x[d][ib], x[d][ia]));
+        dist2 = _mm_add_pd(dist2, _mm_mul_pd(dx[d], dx[d]));
       }
-      const double reach = radius[i] + radius[j];
-      const double dist = std::sqrt(dist2);
-      double normal[D];
-      if (dist > 0) [[likely]] {
-        for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
-      } else {
-        // Coincident centres: no direction is better than another; take the
-        // first axis and report it.
-        for (int d = 0; d < D; ++d) normal[d] = d == 0 ? 1.0 : 0.0;
-        status |= StepStatus::coincident_centres;
+      const __m128d dist = _mm_sqrt_pd(dist2);
+      if (_mm_movemask_pd(_mm_cmpgt_pd(dist, zero)) != 3) {
+        status |= one(ca);  // coincident centres: the scalar path handles them
+        status |= one(cb);
+        continue;
       }
-      double rate = 0;
-      if constexpr (Damped)
-        for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
-      const double force = normal_force<Damped, NonTensile>(pair_k[c], pair_eta[c], reach - dist, rate);
-      const double fi = force * inv_mass[i], fj = force * inv_mass[j];
+      const __m128d reach = _mm_add_pd(_mm_set_pd(radius[ib], radius[ia]), _mm_set_pd(radius[jb], radius[ja]));
+      __m128d normal[D];
+      for (int d = 0; d < D; ++d) normal[d] = _mm_div_pd(dx[d], dist);
+      __m128d force = _mm_mul_pd(_mm_set_pd(pair_k[cb], pair_k[ca]), _mm_sub_pd(reach, dist));
+      if constexpr (Damped) {
+        __m128d rate = zero;
+        for (int d = 0; d < D; ++d)
+          rate = _mm_sub_pd(rate, _mm_mul_pd(_mm_sub_pd(_mm_set_pd(v[d][jb], v[d][ja]), _mm_set_pd(v[d][ib], v[d][ia])),
+                                             normal[d]));
+        force = _mm_add_pd(force, _mm_mul_pd(_mm_set_pd(pair_eta[cb], pair_eta[ca]), rate));
+      }
+      if constexpr (NonTensile) force = _mm_max_pd(zero, force);  // = std::max(force, 0.0), NaN and -0 alike
+      const __m128d fi = _mm_mul_pd(force, _mm_set_pd(inv_mass[ib], inv_mass[ia]));
+      const __m128d fj = _mm_mul_pd(force, _mm_set_pd(inv_mass[jb], inv_mass[ja]));
+      alignas(16) double on_i[D][2], on_j[D][2];
       for (int d = 0; d < D; ++d) {
-        a[d][i] -= fi * normal[d];
-        a[d][j] += fj * normal[d];
+        _mm_store_pd(on_i[d], _mm_mul_pd(fi, normal[d]));
+        _mm_store_pd(on_j[d], _mm_mul_pd(fj, normal[d]));
+      }
+      for (int d = 0; d < D; ++d) {
+        a[d][ia] -= on_i[d][0];
+        a[d][ja] += on_j[d][0];
+      }
+      for (int d = 0; d < D; ++d) {
+        a[d][ib] -= on_i[d][1];
+        a[d][jb] += on_j[d][1];
       }
     }
+#endif
+    for (; h < hits; ++h) status |= one(touching[h]);
   }
   return status;
 }
