@@ -36,47 +36,42 @@ StepStatus refresh_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
-/// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i). One pass over
-/// the particles testing every plane, so positions are read once, not once per
-/// plane; contributions to a particle still come in plane order.
+/// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i), plane by plane
+/// (so each particle receives its plane contributions in plane order).
 template <int D, bool Damped, bool NonTensile>
 void plane_forces(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) {
-  constexpr std::size_t kMaxFastPlanes = 8;
-  const std::size_t planes = m.plane_point.size();
-  if (planes == 0) return;
-  // Cheap screen for axis-aligned planes (one non-zero normal component): for
-  // finite positions the other terms of the gap are ±0, so the one-term gap
-  // gives the same overlap; a pass is then re-tested with the full formula.
-  int axis[kMaxFastPlanes];
-  const bool screen = planes <= kMaxFastPlanes;
-  for (std::size_t p = 0; screen && p < planes; ++p) {
-    int nonzero = 0, which = 0;
-    for (int d = 0; d < D; ++d)
-      if (m.plane_normal[p][d] != 0.0) ++nonzero, which = d;
-    axis[p] = nonzero == 1 ? which : -1;
-  }
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const double* stiffness = m.stiffness.data();
   const double* plane_eta = m.plane_eta.data();
-  for (std::int32_t i = 0; i < m.n; ++i) {
-    for (std::size_t p = 0; p < planes; ++p) {
-      const auto& point = m.plane_point[p];
-      const auto& normal = m.plane_normal[p];
-      if (screen && axis[p] >= 0) {
-        const int d = axis[p];
-        if (!(radius[i] - (x[d][i] - point[d]) * normal[d] > 0)) continue;
-      }
+  const std::size_t planes = m.plane_point.size();
+  for (std::size_t p = 0; p < planes; ++p) {
+    const auto& point = m.plane_point[p];
+    const auto& normal = m.plane_normal[p];
+    auto contact = [&](std::int32_t i) {
       double gap = 0;
       for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * normal[d];
       const double overlap = radius[i] - gap;
-      if (!(overlap > 0)) continue;
+      if (!(overlap > 0)) return;
       double rate = 0;
       if constexpr (Damped)
         for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
       const double force = normal_force<Damped, NonTensile>(stiffness[i], plane_eta[i], overlap, rate);
       const double scaled = force * inv_mass[i];
       for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
+    };
+    int nonzero = 0, axis = 0;
+    for (int d = 0; d < D; ++d)
+      if (normal[d] != 0.0) ++nonzero, axis = d;
+    if (nonzero == 1) {
+      // Axis-aligned (the usual box): for finite positions the other terms of
+      // the gap are ±0, so one coordinate decides; `contact` re-tests in full.
+      const double* xa = x[axis];
+      const double pa = point[axis], na = normal[axis];
+      for (std::int32_t i = 0; i < m.n; ++i)
+        if (radius[i] - (xa[i] - pa) * na > 0) [[unlikely]] contact(i);
+    } else {
+      for (std::int32_t i = 0; i < m.n; ++i) contact(i);
     }
   }
 }
@@ -91,6 +86,7 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
                        Columns<D> a) {
   constexpr std::int32_t kChunk = 512;
   std::int32_t touching[kChunk];
+  double kept_dx[D][kChunk], kept_dist2[kChunk], kept_reach[kChunk];
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const std::int32_t* pi = s.pair_i.data();
@@ -140,9 +136,12 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
       for (int d = 0; d < D; ++d) {
         const double dx = x[d][j] - x[d][i];
         dist2 += dx * dx;
+        kept_dx[d][hits] = dx;  // kept for the force pass (no second gather)
       }
       const double reach = radius[i] + radius[j];
       touching[hits] = c;
+      kept_dist2[hits] = dist2;
+      kept_reach[hits] = reach;
       hits += dist2 < reach * reach ? 1 : 0;  // false for NaN, as before
     }
     std::int32_t h = 0;
@@ -156,18 +155,14 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
       const std::int32_t ia = pi[ca], ja = pj[ca], ib = pi[cb], jb = pj[cb];
       const __m128d zero = _mm_setzero_pd();
       __m128d dx[D];
-      __m128d dist2 = zero;
-      for (int d = 0; d < D; ++d) {
-        dx[d] = _mm_sub_pd(_mm_set_pd(x[d][jb], x[d][ja]), _mm_set_pd(x[d][ib], x[d][ia]));
-        dist2 = _mm_add_pd(dist2, _mm_mul_pd(dx[d], dx[d]));
-      }
-      const __m128d dist = _mm_sqrt_pd(dist2);
+      for (int d = 0; d < D; ++d) dx[d] = _mm_loadu_pd(&kept_dx[d][h]);
+      const __m128d dist = _mm_sqrt_pd(_mm_loadu_pd(&kept_dist2[h]));
       if (_mm_movemask_pd(_mm_cmpgt_pd(dist, zero)) != 3) {
         status |= one(ca);  // coincident centres: the scalar path handles them
         status |= one(cb);
         continue;
       }
-      const __m128d reach = _mm_add_pd(_mm_set_pd(radius[ib], radius[ia]), _mm_set_pd(radius[jb], radius[ja]));
+      const __m128d reach = _mm_loadu_pd(&kept_reach[h]);
       __m128d normal[D];
       for (int d = 0; d < D; ++d) normal[d] = _mm_div_pd(dx[d], dist);
       __m128d force = _mm_mul_pd(_mm_set_pd(pair_k[cb], pair_k[ca]), _mm_sub_pd(reach, dist));
