@@ -45,7 +45,7 @@ EnrichedMatrices enriched_element_matrices(double ea, double rho_a, double x0, d
 /// T with (u0, a0, u1, a1)ᵀ = T (u0, p0, u1, p1)ᵀ, where p0 = u0 + a0 is the upper
 /// side's field extrapolated to node 0 and p1 = u1 − a1 the lower side's field
 /// extrapolated to node 1 (the "phantom" values of Hansbo & Hansbo). Entries are
-/// 0 and ±1, det T = 1: the kernel's unknowns span exactly the enriched space.
+/// 0 and ±1, |det T| = 1: the kernel's unknowns span exactly the enriched space.
 Mat4 phantom_transform();
 
 }  // namespace xfdem::xfem
