@@ -274,16 +274,22 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
     }
   }
 
-  // ---- assemble ---------------------------------------------------------------
-  int kd = 0;
-  for (const BarCell& c : model.cells)
-    if (c.dof[0] >= 0 && c.dof[1] >= 0) kd = std::max(kd, std::abs(c.dof[0] - c.dof[1]));
+  // ---- assemble: each row stored from the first unknown it couples to -----
+  std::vector<int> first(static_cast<std::size_t>(model.dofs));
+  for (int i = 0; i < model.dofs; ++i) first[static_cast<std::size_t>(i)] = i;
+  auto couple = [&](int i, int j) {
+    if (i < 0 || j < 0) return;
+    if (i < j) std::swap(i, j);
+    first[static_cast<std::size_t>(i)] = std::min(first[static_cast<std::size_t>(i)], j);
+  };
+  for (const BarCell& c : model.cells) couple(c.dof[0], c.dof[1]);
   for (int i = 0; i < model.gap_terms; ++i)
-    for (int j = 0; j < model.gap_terms; ++j) kd = std::max(kd, std::abs(model.gap_dof[i] - model.gap_dof[j]));
+    for (int j = 0; j < model.gap_terms; ++j) couple(model.gap_dof[i], model.gap_dof[j]);
   const double ea = d.youngs_modulus * d.area;
   const double rho_a = d.density * d.area;
-  model.mass.resize(model.dofs, kd);
-  model.stiffness.resize(model.dofs, kd);
+  model.mass.resize(model.dofs, first);
+  model.stiffness.resize(model.dofs, first);
+  const int kd = model.mass.bandwidth();
   for (const BarCell& c : model.cells) {
     const xfem::PieceMatrices pm = xfem::bar_piece_matrices(ea, rho_a, c.x0, c.x1, c.a, c.b);
     for (int r = 0; r < 2; ++r)
@@ -307,12 +313,10 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
   model.scheme = xfem::NewmarkScheme{d.beta, d.gamma, d.dt};
   const double fac0 = model.scheme.fac0(), fac1 = model.scheme.fac1();
   xfem::SymmetricBand eff;
-  eff.resize(model.dofs, kd);
   auto build_effective = [&](bool closed) {
-    eff = xfem::SymmetricBand{};
-    eff.resize(model.dofs, kd);
+    eff.resize(model.dofs, first);
     for (int i = 0; i < model.dofs; ++i)
-      for (int j = std::max(0, i - kd); j <= i; ++j)
+      for (int j = first[static_cast<std::size_t>(i)]; j <= i; ++j)
         eff.add(i, j, model.mass.get(i, j) + fac0 * model.stiffness.get(i, j));
     if (model.base_dof >= 0) eff.add(model.base_dof, model.base_dof, fac1 * model.base_damping);
     if (closed)

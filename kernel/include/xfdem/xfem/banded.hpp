@@ -1,10 +1,13 @@
-// Symmetric band matrices and their LDLᵀ factorisation, sized once at build.
+// Symmetric matrices with a variable band (a "profile" or skyline), and their
+// LDLᵀ factorisation, sized once at build.
 //
-// The bar's unknowns are numbered node by node, so every matrix of the bar is
-// banded with a half-bandwidth of 1 (plain or conforming mesh) or 3 (the cut
-// element couples its four unknowns). Storage is the lower band, row by row:
-// entry (i, j) with i − kd ≤ j ≤ i lives at data[i·(kd+1) + kd − (i − j)].
-// resize() and factor() allocate; multiply(), quadratic() and solve() never do.
+// The bar's unknowns are numbered node by node, so row i of every matrix of the
+// bar has nonzeros only from a column first(i) ≥ i − 3 on: i − 1 almost
+// everywhere, i − 3 for the rows of the X-FEM cut element, whose four unknowns
+// are all coupled. Storing each row from its own first column keeps the cut
+// element from widening every other row. LDLᵀ creates no fill outside the
+// profile. resize() and factor() allocate; multiply(), quadratic() and solve()
+// never do.
 #pragma once
 #include <vector>
 
@@ -12,13 +15,17 @@ namespace xfdem::xfem {
 
 class SymmetricBand {
  public:
-  /// n × n, half-bandwidth kd ≥ 0, all zero. Allocates.
+  /// n × n, row i stored from column first_column[i] (≤ i) to i; all zero. Allocates.
+  void resize(int n, const std::vector<int>& first_column);
+  /// Constant half-bandwidth kd: first column max(0, i − kd). Allocates.
   void resize(int n, int kd);
   [[nodiscard]] int size() const { return n_; }
+  /// Largest i − first(i).
   [[nodiscard]] int bandwidth() const { return kd_; }
-  /// Entry (i, j) of the symmetric matrix; |i − j| ≤ kd.
+  [[nodiscard]] int first_column(int i) const { return first_[static_cast<std::size_t>(i)]; }
+  /// Entry (i, j) of the symmetric matrix (0 outside the profile).
   [[nodiscard]] double get(int i, int j) const;
-  /// A(i, j) += value and, for i ≠ j, A(j, i) += value (one stored entry).
+  /// A(i, j) += value and, for i ≠ j, A(j, i) += value (one stored entry). (i, j) must be in the profile.
   void add(int i, int j, double value);
   /// y = A x (x and y of size n, distinct).
   void multiply(const double* x, double* y) const;
@@ -26,19 +33,22 @@ class SymmetricBand {
   void subtract_product(const double* x, double* y) const;
   /// xᵀ A x.
   [[nodiscard]] double quadratic(const double* x) const;
-  [[nodiscard]] const std::vector<double>& data() const { return data_; }
 
  private:
-  [[nodiscard]] int offset(int i, int j) const { return i * (kd_ + 1) + kd_ - (i - j); }
+  friend class BandLdlt;
+  // Row i: entry (i, j) at data_[offset_[i] + j], offset_[i] = start of row i − first(i).
   int n_ = 0;
   int kd_ = 0;
+  std::vector<int> first_;
+  std::vector<long> offset_;
   std::vector<double> data_;
 };
 
-/// LDLᵀ of a symmetric positive definite band matrix after symmetric Jacobi
-/// scaling (S A S with S = diag(1/√A_ii)), which makes the factors of the
-/// enriched system independent of how small a cut piece is. No pivoting: the
-/// matrices of the bar are SPD by construction.
+/// LDLᵀ of a symmetric positive definite profile matrix, computed on its Jacobi
+/// scaling (S A S with S = diag(1/√A_ii)), whose pivots do not depend on how
+/// small a cut piece is, then folded back into unit-lower L and D of A itself so
+/// that a solve is two substitutions. No pivoting: the matrices of the bar are
+/// SPD by construction.
 class BandLdlt {
  public:
   /// Factors A. Allocates. Returns false (and leaves the factor unusable) if a
@@ -46,7 +56,7 @@ class BandLdlt {
   bool factor(const SymmetricBand& a);
   /// x ← A⁻¹ x in place. No allocation.
   void solve(double* x) const;
-  [[nodiscard]] int size() const { return n_; }
+  [[nodiscard]] int size() const { return l_.n_; }
   [[nodiscard]] bool ready() const { return ready_; }
   /// Smallest and largest pivot of the scaled factorisation (diagnostics: their
   /// ratio bounds how much the scaled system amplifies round-off).
@@ -54,14 +64,11 @@ class BandLdlt {
   [[nodiscard]] double max_pivot() const { return max_pivot_; }
 
  private:
-  int n_ = 0;
-  int kd_ = 0;
   bool ready_ = false;
   double min_pivot_ = 0.0;
   double max_pivot_ = 0.0;
-  std::vector<double> scale_;  // S_ii = 1/√A_ii
-  std::vector<double> l_;      // unit lower factor, band layout of SymmetricBand
-  std::vector<double> d_inv_;  // 1/D_ii
+  SymmetricBand l_;            // unit lower factor of A (diagonal unused), same profile
+  std::vector<double> d_inv_;  // 1/D_ii of A
 };
 
 }  // namespace xfdem::xfem
