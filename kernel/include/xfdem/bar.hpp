@@ -117,7 +117,7 @@ struct BarModel {
   xfem::SymmetricBand mass;
   xfem::SymmetricBand stiffness;
   xfem::NewmarkScheme scheme;
-  xfem::BandLdlt mass_factor;       ///< M (+ k g gᵀ not needed: M alone), for a_0
+  xfem::BandLdlt mass_factor;       ///< M alone, for a_0 (u is given there: the interface force goes to the right-hand side)
   xfem::BandLdlt effective_open;    ///< M + γΔt C + βΔt² K            (no interface, or unilateral open)
   xfem::BandLdlt effective_closed;  ///< M + γΔt C + βΔt² (K + k g gᵀ) (tied, or unilateral closed)
 };
