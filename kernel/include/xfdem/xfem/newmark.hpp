@@ -30,7 +30,7 @@ struct NewmarkScheme {
   [[nodiscard]] double fac1() const { return gamma * dt; }
 
   /// Accepted region: γ ≥ 1/2 and β ≥ (γ + 1/2)²/4, i.e. unconditionally stable
-  /// for undamped linear systems (Hughes, "The finite element method", 9.1).
+  /// for undamped linear systems (Hughes, "The Finite Element Method", ch. 9).
   /// γ = 1/2 is second order (β = 1/4: trapezoidal, energy-conserving); γ > 1/2
   /// damps high frequencies and is first order. Conditionally stable choices
   /// (β < (γ + 1/2)²/4, e.g. central differences) are rejected: their step limit
