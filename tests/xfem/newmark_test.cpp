@@ -48,9 +48,11 @@ std::vector<double> observed_orders(BarDesc d, const std::vector<double>& dts) {
 
 }  // namespace
 
-// All modes of a 20-element mesh are resolved at these steps (ω_max Δt ≤ 0.6), so
-// the error is in the asymptotic regime: the local order estimate must be within
-// 0.1 of the theory (the next term of the error expansion is O(Δt²) relative).
+// All modes of a 20-element mesh with a 1e8 N/m interface are resolved at these
+// steps (ω_max Δt ≤ 0.6 at the coarsest). The coarsest pair is still
+// pre-asymptotic (the estimate there is printed, not asserted); the order read
+// from the two finest steps must be within 0.1 of the theory (the next term of
+// the error expansion is O(Δt²) relative, ≤ 0.1 at ω_max Δt = 0.15).
 TEST(Newmark, SecondOrderForTrapezoidalRule) {
   for (auto method : {BarDesc::Method::xfem, BarDesc::Method::fem}) {
     BarDesc d = test::v2_rod(20);
