@@ -1,0 +1,203 @@
+// The continuum of the coupled method in 1D: an elastic bar on [0, L] (base at
+// x = 0, tip at x = L, positive displacement and force point up), meshed with
+// 2-node elements, optionally cut by an interface (type b contact) that the
+// X-FEM carries inside an element with the shifted Heaviside enrichment, and
+// integrated in time with Newmark GN22. docs/xfem.md gives the formulation.
+//
+// Model / state / workspace split: build_bar() validates a BarDesc and is the
+// only call that allocates; bar_step() advances the BarState in place and never
+// allocates, throws, locks or reads a clock. A BarModel is immutable after build
+// and may be shared by any number of states (each with its own workspace).
+//
+// Units: SI throughout (m, s, kg, N, Pa).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "xfdem/status.hpp"
+#include "xfdem/xfem/banded.hpp"
+#include "xfdem/xfem/newmark.hpp"
+
+namespace xfdem {
+
+/// The interface between the two continua (type b contact).
+struct BarInterfaceDesc {
+  enum class Behaviour : std::uint8_t {
+    tied,        ///< penalty spring in tension and compression (the paper's constant Jacobian)
+    unilateral,  ///< spring only while the sides interpenetrate (gap < 0): frictionless contact
+  };
+  double position = 0.0;   ///< x of the interface, m; strictly inside (0, length)
+  double stiffness = 0.0;  ///< penalty spring between the two sides, N/m (the paper's 100·E·A)
+  Behaviour behaviour = Behaviour::tied;
+};
+
+struct BarDesc {
+  enum class Method : std::uint8_t {
+    xfem,  ///< `elements` uniform elements; the cut one is enriched
+    fem,   ///< conforming mesh: a duplicated node pair at the interface (elements + 1 elements, or
+           ///< `elements` when the interface falls on a node, which is then duplicated)
+  };
+  enum class Base : std::uint8_t {
+    fixed,      ///< u(0) = 0
+    absorbing,  ///< Lysmer dashpot ρ c A (c = √(E/ρ)) to the ground, plus `base_stiffness`
+  };
+  enum class TipLoad : std::uint8_t {
+    none,
+    half_sine,  ///< F = tip_amplitude · sin(π t / tip_duration) for t ≤ tip_duration, else 0
+    step,       ///< F = tip_amplitude for t ≥ 0
+  };
+
+  double length = 0.0;          ///< L, m
+  double youngs_modulus = 0.0;  ///< E, Pa
+  double area = 0.0;            ///< A, m²
+  double density = 0.0;         ///< ρ, kg/m³
+  int elements = 0;             ///< elements of the uniform background mesh
+  Method method = Method::xfem;
+  Base base = Base::fixed;
+  double base_stiffness = 0.0;  ///< spring in parallel with the absorbing base's dashpot, N/m (absorbing only)
+  std::optional<BarInterfaceDesc> interface;  ///< absent: a plain bar, no enrichment code path
+  double beta = 0.25;   ///< Newmark β; (β, γ) must satisfy γ ≥ 1/2, β ≥ (γ + 1/2)²/4
+  double gamma = 0.5;   ///< Newmark γ
+  double dt = 0.0;      ///< time step, s
+  TipLoad tip_load = TipLoad::none;
+  double tip_amplitude = 0.0;  ///< N, positive up
+  double tip_duration = 0.0;   ///< s (half_sine only; must be 0 otherwise)
+  /// Unilateral interface: at most this many solves per step while the active
+  /// set settles (one linear interface settles in at most 2).
+  int max_active_set_iterations = 8;
+  /// Upper bound on the number of unknowns; 0 sizes everything to the mesh.
+  /// A mesh needing more is a BuildResult::Code::capacity failure.
+  int max_dofs = 0;
+};
+
+/// Inputs of one step, applied at t_{n+1} (with the tip load).
+struct BarInput {
+  double tip_force = 0.0;  ///< extra force on the tip node, N, positive up (the particle coupling's share)
+};
+
+/// One integration cell: a parent 2-node element [x0, x1] whose linear shape
+/// functions are integrated over [a, b] ⊂ [x0, x1]. An uncut element is one cell
+/// with [a, b] = [x0, x1]; the cut X-FEM element is two cells (one per side) with
+/// the same parent; the conforming mesh splits it into two ordinary elements.
+struct BarCell {
+  int dof[2] = {-1, -1};  ///< unknowns multiplying N0, N1; −1: constrained to zero
+  double x0 = 0.0, x1 = 0.0;
+  double a = 0.0, b = 0.0;
+};
+
+/// Everything build_bar() derives from a BarDesc. Immutable after build.
+struct BarModel {
+  BarDesc desc;
+  bool built = false;
+  int dofs = 0;                 ///< number of unknowns
+  double element_length = 0.0;  ///< h of the uniform background mesh, m
+  std::vector<BarCell> cells;   ///< ordered by x
+  std::vector<int> element_cell;  ///< first cell of each background element
+
+  // Interface (has_interface false: all of this is unused).
+  bool has_interface = false;
+  bool unilateral = false;
+  double interface_position = 0.0;  ///< m
+  double interface_stiffness = 0.0; ///< N/m
+  int cut_element = -1;             ///< background element holding the interface (x_e < ξ ≤ x_{e+1})
+  double cut_fraction = 0.0;        ///< (ξ − x_e)/h ∈ (0, 1]
+  int gap_terms = 0;                ///< gap = Σ gap_coeff[i] u[gap_dof[i]] (upper minus lower side), m
+  int gap_dof[4] = {-1, -1, -1, -1};
+  double gap_coeff[4] = {0, 0, 0, 0};
+
+  // Base and tip.
+  int base_dof = -1;          ///< unknown of the base node (absorbing base), −1 when fixed
+  double base_damping = 0.0;  ///< ρ c A, N·s/m (absorbing base)
+  int tip_dof = -1;           ///< unknown of the node at x = L
+  double tip_mass = 0.0;      ///< row sum of M at the tip unknown (its lumped share), kg
+
+  // Operators. `stiffness` holds the elements and the base spring, not the
+  // interface spring (added as k·g gᵀ through gap_dof/gap_coeff).
+  xfem::SymmetricBand mass;
+  xfem::SymmetricBand stiffness;
+  xfem::NewmarkScheme scheme;
+  xfem::BandLdlt mass_factor;       ///< M alone, for a_0 (u is given there: the interface force goes to the right-hand side)
+  xfem::BandLdlt effective_open;    ///< M + γΔt C + βΔt² K            (no interface, or unilateral open)
+  xfem::BandLdlt effective_closed;  ///< M + γΔt C + βΔt² (K + k g gᵀ) (tied, or unilateral closed)
+};
+
+/// Everything a step changes. Plain data: copy it to snapshot, hash it through
+/// for_each_field().
+struct BarState {
+  std::vector<double> u;  ///< unknowns (dofs): m. Nodal displacements, and at the cut element the
+                          ///< phantom values (each side's field extrapolated to the far node)
+  std::vector<double> v;  ///< their rates, m/s
+  std::vector<double> a;  ///< their second rates, m/s²
+  double time = 0.0;      ///< s, = step · dt
+  std::int64_t step = 0;
+  std::int32_t interface_closed = 0;  ///< 1 while the interface spring acts (always 1 when tied)
+
+  /// Calls visitor(name, pointer, count) for every field, in a fixed order.
+  template <class Visitor>
+  void for_each_field(Visitor&& visitor) {
+    visitor("u", u.data(), u.size());
+    visitor("v", v.data(), v.size());
+    visitor("a", a.data(), a.size());
+    visitor("time", &time, std::size_t{1});
+    visitor("step", &step, std::size_t{1});
+    visitor("interface_closed", &interface_closed, std::size_t{1});
+  }
+  template <class Visitor>
+  void for_each_field(Visitor&& visitor) const {
+    visitor("u", u.data(), u.size());
+    visitor("v", v.data(), v.size());
+    visitor("a", a.data(), a.size());
+    visitor("time", &time, std::size_t{1});
+    visitor("step", &step, std::size_t{1});
+    visitor("interface_closed", &interface_closed, std::size_t{1});
+  }
+};
+
+/// Scratch of a step, sized at build.
+struct BarWorkspace {
+  std::vector<double> u_pred, v_pred, rhs;
+};
+
+/// Validates every field (the message starts with the field's name, e.g.
+/// "interface.position: ..."), meshes, assembles, factors, and sets the state to
+/// rest at t = 0 with a_0 from M a_0 = f(0). On failure the model is not built
+/// and bar_step() returns StepStatus::not_built.
+BuildResult build_bar(const BarDesc& desc, BarModel& model, BarState& state, BarWorkspace& workspace);
+
+/// Only the validation of build_bar() (no allocation), for tools that check input first.
+BuildResult validate_bar(const BarDesc& desc);
+
+/// Advances one step of dt: loads at t_{n+1} = (step + 1)·dt. Returns ok, or
+/// active_set_not_converged (step taken with the last active set), or
+/// non_finite (step taken, the state holds the non-finite values), or
+/// not_built (nothing done).
+StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& workspace, const BarInput& input = {});
+
+/// Recomputes state.a from the equation of motion at state.time
+/// (M a = f − C v − K u, interface active set from the current gap), with
+/// `input` as the extra tip force. Call after editing u or v. No allocation.
+StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
+                                    const BarInput& input = {});
+
+/// The tip load of the description at time t, N.
+double bar_tip_load(const BarModel& model, double t);
+
+/// Displacement at x ∈ [0, L], m, through the (enriched) shape functions. At the
+/// interface coordinate: the value just below it. NaN outside [0, L].
+double bar_displacement(const BarModel& model, const BarState& state, double x);
+/// Velocity at x, m/s, same conventions.
+double bar_velocity(const BarModel& model, const BarState& state, double x);
+/// Upper minus lower displacement at the interface, m (positive: open). 0 without interface.
+double bar_interface_gap(const BarModel& model, const BarState& state);
+/// Tip (x = L) displacement and velocity.
+double bar_tip_displacement(const BarModel& model, const BarState& state);
+double bar_tip_velocity(const BarModel& model, const BarState& state);
+
+struct BarEnergy {
+  double kinetic = 0.0;  ///< ½ vᵀ M v, J
+  double elastic = 0.0;  ///< ½ uᵀ K u, J: elements, base spring, and the interface spring while it acts
+};
+BarEnergy bar_energy(const BarModel& model, const BarState& state);
+
+}  // namespace xfdem

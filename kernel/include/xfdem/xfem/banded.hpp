@@ -1,0 +1,74 @@
+// Symmetric matrices with a variable band (a "profile" or skyline), and their
+// LDLᵀ factorisation, sized once at build.
+//
+// The bar's unknowns are numbered node by node, so row i of every matrix of the
+// bar has nonzeros only from a column first(i) ≥ i − 3 on: i − 1 almost
+// everywhere, i − 3 for the rows of the X-FEM cut element, whose four unknowns
+// are all coupled. Storing each row from its own first column keeps the cut
+// element from widening every other row. LDLᵀ creates no fill outside the
+// profile. resize() and factor() allocate; multiply(), quadratic() and solve()
+// never do.
+#pragma once
+#include <vector>
+
+namespace xfdem::xfem {
+
+class SymmetricBand {
+ public:
+  /// n × n, row i stored from column first_column[i] (≤ i) to i; all zero. Allocates.
+  void resize(int n, const std::vector<int>& first_column);
+  /// Constant half-bandwidth kd: first column max(0, i − kd). Allocates.
+  void resize(int n, int kd);
+  [[nodiscard]] int size() const { return n_; }
+  /// Largest i − first(i).
+  [[nodiscard]] int bandwidth() const { return kd_; }
+  [[nodiscard]] int first_column(int i) const { return first_[static_cast<std::size_t>(i)]; }
+  /// Entry (i, j) of the symmetric matrix (0 outside the profile).
+  [[nodiscard]] double get(int i, int j) const;
+  /// A(i, j) += value and, for i ≠ j, A(j, i) += value (one stored entry). (i, j) must be in the profile.
+  void add(int i, int j, double value);
+  /// y = A x (x and y of size n, distinct).
+  void multiply(const double* x, double* y) const;
+  /// y −= A x.
+  void subtract_product(const double* x, double* y) const;
+  /// xᵀ A x.
+  [[nodiscard]] double quadratic(const double* x) const;
+
+ private:
+  friend class BandLdlt;
+  // Row i: entry (i, j) at data_[offset_[i] + j], offset_[i] = start of row i − first(i).
+  int n_ = 0;
+  int kd_ = 0;
+  std::vector<int> first_;
+  std::vector<long> offset_;
+  std::vector<double> data_;
+};
+
+/// LDLᵀ of a symmetric positive definite profile matrix, computed on its Jacobi
+/// scaling (S A S with S = diag(1/√A_ii)), whose pivots do not depend on how
+/// small a cut piece is, then folded back into unit-lower L and D of A itself so
+/// that a solve is two substitutions. No pivoting: the matrices of the bar are
+/// SPD by construction.
+class BandLdlt {
+ public:
+  /// Factors A. Allocates. Returns false (and leaves the factor unusable) if a
+  /// diagonal entry or a pivot is not positive, i.e. A is not SPD.
+  bool factor(const SymmetricBand& a);
+  /// x ← A⁻¹ x in place. No allocation.
+  void solve(double* x) const;
+  [[nodiscard]] int size() const { return l_.n_; }
+  [[nodiscard]] bool ready() const { return ready_; }
+  /// Smallest and largest pivot of the scaled factorisation (diagnostics: their
+  /// ratio bounds how much the scaled system amplifies round-off).
+  [[nodiscard]] double min_pivot() const { return min_pivot_; }
+  [[nodiscard]] double max_pivot() const { return max_pivot_; }
+
+ private:
+  bool ready_ = false;
+  double min_pivot_ = 0.0;
+  double max_pivot_ = 0.0;
+  SymmetricBand l_;            // unit lower factor of A (diagonal unused), same profile
+  std::vector<double> d_inv_;  // 1/D_ii of A
+};
+
+}  // namespace xfdem::xfem

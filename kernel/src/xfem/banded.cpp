@@ -1,0 +1,142 @@
+#include "xfdem/xfem/banded.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace xfdem::xfem {
+
+void SymmetricBand::resize(int n, const std::vector<int>& first_column) {
+  n_ = n;
+  kd_ = 0;
+  first_.assign(first_column.begin(), first_column.begin() + n);
+  offset_.assign(static_cast<std::size_t>(n), 0);
+  long next = 0;
+  for (int i = 0; i < n; ++i) {
+    const int f = std::clamp(first_[static_cast<std::size_t>(i)], 0, i);
+    first_[static_cast<std::size_t>(i)] = f;
+    kd_ = std::max(kd_, i - f);
+    offset_[static_cast<std::size_t>(i)] = next - f;
+    next += i - f + 1;
+  }
+  data_.assign(static_cast<std::size_t>(next), 0.0);
+}
+
+void SymmetricBand::resize(int n, int kd) {
+  std::vector<int> first(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) first[static_cast<std::size_t>(i)] = std::max(0, i - kd);
+  resize(n, first);
+}
+
+double SymmetricBand::get(int i, int j) const {
+  if (i < j) std::swap(i, j);
+  if (j < first_[static_cast<std::size_t>(i)]) return 0.0;
+  return data_[static_cast<std::size_t>(offset_[static_cast<std::size_t>(i)] + j)];
+}
+
+void SymmetricBand::add(int i, int j, double value) {
+  if (i < j) std::swap(i, j);
+  data_[static_cast<std::size_t>(offset_[static_cast<std::size_t>(i)] + j)] += value;
+}
+
+void SymmetricBand::multiply(const double* x, double* y) const {
+  for (int i = 0; i < n_; ++i) y[i] = 0.0;
+  subtract_product(x, y);
+  for (int i = 0; i < n_; ++i) y[i] = -y[i];
+}
+
+void SymmetricBand::subtract_product(const double* x, double* y) const {
+  const double* a = data_.data();
+  const int* first = first_.data();
+  const long* offset = offset_.data();
+  for (int i = 0; i < n_; ++i) {
+    const double* row = a + offset[i];  // row[j] = A(i, j)
+    const double xi = x[i];
+    double yi = row[i] * xi;
+    for (int j = first[i]; j < i; ++j) {
+      yi += row[j] * x[j];
+      y[j] -= row[j] * xi;
+    }
+    y[i] -= yi;
+  }
+}
+
+double SymmetricBand::quadratic(const double* x) const {
+  double off = 0.0;
+  double diag = 0.0;
+  for (int i = 0; i < n_; ++i) {
+    const double* row = data_.data() + offset_[static_cast<std::size_t>(i)];
+    diag += row[i] * x[i] * x[i];
+    for (int j = first_[static_cast<std::size_t>(i)]; j < i; ++j) off += row[j] * x[j] * x[i];
+  }
+  return diag + 2.0 * off;
+}
+
+bool BandLdlt::factor(const SymmetricBand& a) {
+  ready_ = false;
+  l_ = a;
+  const int n = a.size();
+  std::vector<double> scale(static_cast<std::size_t>(n), 0.0);
+  d_inv_.assign(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const double aii = a.get(i, i);
+    if (!(aii > 0.0) || !std::isfinite(aii)) return false;
+    scale[static_cast<std::size_t>(i)] = 1.0 / std::sqrt(aii);
+  }
+  auto row = [&](int i) { return l_.data_.data() + l_.offset_[static_cast<std::size_t>(i)]; };
+  auto first = [&](int i) { return l_.first_[static_cast<std::size_t>(i)]; };
+  auto s = [&](int i) { return scale[static_cast<std::size_t>(i)]; };
+  // Scale in place: Â(i, j) = s_i A(i, j) s_j.
+  for (int i = 0; i < n; ++i)
+    for (int j = first(i); j <= i; ++j) row(i)[j] *= s(i) * s(j);
+  // Row-oriented LDLᵀ within the profile: for j < i,
+  //   L(i, j) = (Â(i, j) − Σ_k L(i, k) D_k L(j, k)) / D_j,  D_i = Â(i, i) − Σ_{k<i} L(i, k)² D_k,
+  // k running over the columns both rows store.
+  std::vector<double> d(static_cast<std::size_t>(n), 0.0);
+  min_pivot_ = 1e300;
+  max_pivot_ = 0.0;
+  for (int i = 0; i < n; ++i) {
+    double* ri = row(i);
+    for (int j = first(i); j < i; ++j) {
+      const double* rj = row(j);
+      double sum = ri[j];
+      for (int k = std::max(first(i), first(j)); k < j; ++k) sum -= ri[k] * d[static_cast<std::size_t>(k)] * rj[k];
+      ri[j] = sum / d[static_cast<std::size_t>(j)];
+    }
+    double di = ri[i];
+    for (int k = first(i); k < i; ++k) di -= ri[k] * ri[k] * d[static_cast<std::size_t>(k)];
+    if (!(di > 0.0) || !std::isfinite(di)) return false;
+    d[static_cast<std::size_t>(i)] = di;
+    ri[i] = 1.0;
+    min_pivot_ = std::min(min_pivot_, di);
+    max_pivot_ = std::max(max_pivot_, di);
+  }
+  // Fold the scaling back: S⁻¹ L D Lᵀ S⁻¹ = L' D' L'ᵀ with L'(i, j) = L(i, j) s_j / s_i
+  // and D'_i = D_i / s_i², so a solve is two substitutions and nothing else.
+  for (int i = 0; i < n; ++i) {
+    for (int j = first(i); j < i; ++j) row(i)[j] *= s(j) / s(i);
+    d_inv_[static_cast<std::size_t>(i)] = s(i) * s(i) / d[static_cast<std::size_t>(i)];
+  }
+  ready_ = true;
+  return true;
+}
+
+void BandLdlt::solve(double* x) const {
+  const int n = l_.n_;
+  const double* l = l_.data_.data();
+  const int* first = l_.first_.data();
+  const long* offset = l_.offset_.data();
+  for (int i = 0; i < n; ++i) {  // L y = b
+    const double* row = l + offset[i];
+    double xi = x[i];
+    for (int j = first[i]; j < i; ++j) xi -= row[j] * x[j];
+    x[i] = xi;
+  }
+  for (int i = 0; i < n; ++i) x[i] *= d_inv_[static_cast<std::size_t>(i)];
+  for (int i = n - 1; i >= 0; --i) {  // Lᵀ x = D⁻¹ y, column by column
+    const double* row = l + offset[i];
+    const double xi = x[i];
+    for (int j = first[i]; j < i; ++j) x[j] -= row[j] * xi;
+  }
+}
+
+}  // namespace xfdem::xfem

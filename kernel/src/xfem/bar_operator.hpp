@@ -1,0 +1,36 @@
+// The bar as seen by the Newmark integrator: one operation, implicit_solve().
+// Private to the kernel.
+#pragma once
+#include "xfdem/bar.hpp"
+
+namespace xfdem::detail {
+
+/// gap = Σ gap_coeff[i] x[gap_dof[i]].
+inline double bar_gap_of(const BarModel& m, const double* x) {
+  double g = 0.0;
+  for (int i = 0; i < m.gap_terms; ++i) g += m.gap_coeff[i] * x[m.gap_dof[i]];
+  return g;
+}
+
+class BarOperator {
+ public:
+  BarOperator(const BarModel& model, BarWorkspace& workspace, double extra_tip_force, std::int32_t& interface_closed)
+      : m_(model), ws_(workspace), extra_tip_force_(extra_tip_force), closed_(interface_closed) {}
+
+  [[nodiscard]] int size() const { return m_.dofs; }
+
+  /// Solves (M + fac1 C + fac0 K) k = f(t) − C v − K x for k, with (fac0, fac1)
+  /// either (0, 0) (the initial acceleration: M k = f − C v − K x) or the
+  /// model's (βΔt², γΔt), whose matrices were factored at build. The unilateral
+  /// interface picks its active set here: closed iff the gap at the solution,
+  /// x + fac0 k, is negative.
+  StepStatus implicit_solve(double fac0, double fac1, double t, const double* x, const double* v, double* k) const;
+
+ private:
+  const BarModel& m_;
+  BarWorkspace& ws_;
+  double extra_tip_force_;
+  std::int32_t& closed_;
+};
+
+}  // namespace xfdem::detail
