@@ -14,32 +14,70 @@ void write_value(std::ostream& out, double value) {
   out << text;
 }
 
+/// The particles of a scene without a continuum.
 template <int D>
-double probe_value(const Probe& p, const DemModel<D>& m, const DemState<D>& s) {
-  switch (p.kind) {
-    case Probe::Kind::particle_position: return s.x[p.component][p.particle];
-    case Probe::Kind::particle_velocity: return s.v[p.component][p.particle];
-    case Probe::Kind::pair_force: return dem_pair_force(m, s, p.particle, p.other);
-    case Probe::Kind::plane_force: return dem_plane_force(m, s, p.particle, p.other);
-    case Probe::Kind::energy_total: {
-      const DemEnergy e = dem_energy(m, s);
-      return e.kinetic + e.elastic + e.potential;
-    }
-    case Probe::Kind::energy_kinetic: return dem_energy(m, s).kinetic;
-    case Probe::Kind::energy_elastic: return dem_energy(m, s).elastic;
-    case Probe::Kind::energy_potential: return dem_energy(m, s).potential;
-    default: return NAN;  // continuum probes are rejected at load in DEM-only builds
+class DemSystem {
+ public:
+  explicit DemSystem(const DemDesc<D>& desc) {
+    const BuildResult built = build_dem(desc, model_, state_, workspace_);
+    if (!built.ok()) throw SceneError(std::string("scene key 'dem.") + built.message);
   }
-}
+  StepStatus step() { return dem_step(model_, state_, workspace_); }
+  double probe(const Probe& p) const {
+    switch (p.kind) {
+      case Probe::Kind::particle_position: return state_.x[p.component][p.particle];
+      case Probe::Kind::particle_velocity: return state_.v[p.component][p.particle];
+      case Probe::Kind::pair_force: return dem_pair_force(model_, state_, p.particle, p.other);
+      case Probe::Kind::plane_force: return dem_plane_force(model_, state_, p.particle, p.other);
+      case Probe::Kind::energy_total: {
+        const DemEnergy e = dem_energy(model_, state_);
+        return e.kinetic + e.elastic + e.potential;
+      }
+      case Probe::Kind::energy_kinetic: return dem_energy(model_, state_).kinetic;
+      case Probe::Kind::energy_elastic: return dem_energy(model_, state_).elastic;
+      case Probe::Kind::energy_potential: return dem_energy(model_, state_).potential;
+      default: return NAN;  // continuum probes are rejected at load for DEM-only scenes
+    }
+  }
 
-template <int D>
-RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv) {
-  DemModel<D> model;
-  DemState<D> state;
-  DemWorkspace<D> workspace;
-  const BuildResult built = build_dem(desc, model, state, workspace);
-  if (!built.ok()) throw SceneError(std::string("scene key 'dem.") + built.message);
+ private:
+  DemModel<D> model_;
+  DemState<D> state_;
+  DemWorkspace<D> workspace_;
+};
 
+/// A bar alone (V2).
+class BarSystem {
+ public:
+  explicit BarSystem(const BarDesc& desc) {
+    const BuildResult built = build_bar(desc, model_, state_, workspace_);
+    if (!built.ok()) throw SceneError(std::string("scene key 'continuum.") + built.message);
+  }
+  StepStatus step() { return bar_step(model_, state_, workspace_); }
+  double probe(const Probe& p) const {
+    switch (p.kind) {
+      case Probe::Kind::bar_displacement: return bar_displacement(model_, state_, p.bar_at);
+      case Probe::Kind::bar_velocity: return bar_velocity(model_, state_, p.bar_at);
+      case Probe::Kind::interface_gap: return bar_interface_gap(model_, state_);
+      case Probe::Kind::energy_total: {
+        const BarEnergy e = bar_energy(model_, state_);
+        return e.kinetic + e.elastic;
+      }
+      case Probe::Kind::energy_kinetic: return bar_energy(model_, state_).kinetic;
+      case Probe::Kind::energy_elastic: return bar_energy(model_, state_).elastic;
+      case Probe::Kind::energy_potential: return 0.0;  // the rod carries no gravity
+      default: return NAN;  // particle probes are rejected at load for bar-only scenes
+    }
+  }
+
+ private:
+  BarModel model_;
+  BarState state_;
+  BarWorkspace workspace_;
+};
+
+template <class System>
+RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
   csv << "t";
   for (const auto& p : scene.probes) csv << ',' << p.name;
   csv << '\n';
@@ -47,7 +85,7 @@ RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv
     write_value(csv, static_cast<double>(step) * scene.dt);
     for (const auto& p : scene.probes) {
       csv << ',';
-      write_value(csv, probe_value(p, model, state));
+      write_value(csv, system.probe(p));
     }
     csv << '\n';
   };
@@ -57,7 +95,7 @@ RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv
   std::int64_t worst = 0;
   for (std::int64_t step = 1; step <= scene.steps; ++step) {
     const std::int64_t t0 = platform::monotonic_ns();
-    const StepStatus status = dem_step(model, state, workspace);
+    const StepStatus status = system.step();
     worst = std::max(worst, platform::monotonic_ns() - t0);
     if (status != StepStatus::ok) {
       char text[200];
@@ -75,13 +113,25 @@ RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv
   return summary;
 }
 
+template <int D>
+RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv) {
+  DemSystem<D> system(desc);
+  return run_system(scene, system, csv);
+}
+
 }  // namespace
 
 RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads < 1 || threads > 2) throw SceneError("--threads: must be 1 or 2");
+  if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem))
+    throw SceneError("scene: particles and a continuum together need the coupled stepper (not in this build)");
   if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv);
   if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv);
   if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv);
+  if (scene.bar) {
+    BarSystem system(*scene.bar);
+    return run_system(scene, system, csv);
+  }
   throw SceneError("scene: nothing to run");
 }
 

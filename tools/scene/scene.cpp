@@ -1,5 +1,7 @@
 #include "scene/scene.hpp"
 
+#include "scene/continuum_json.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -163,8 +165,10 @@ Scene parse_scene(const Json& document) {
   }
   scene.has_continuum = top.has("continuum");
   if (scene.has_continuum) {
+    if (scene.dimension != 1)
+      throw SceneError("scene key 'dimension': a continuum (bar) scene must have dimension 1");
     ObjectReader continuum = top.object("continuum");
-    continuum.fail("type", "the continuum is not available in this build (DEM-only scenes)");
+    scene.bar = parse_continuum(continuum, scene.dt);
   } else if (scene.dem_substeps != 1) {
     throw SceneError("scene key 'time.dem_substeps': must be 1 (or absent) in a scene without a continuum");
   }
@@ -250,7 +254,7 @@ Scene parse_scene(const Json& document) {
     } else if (p.has("bar_at")) {
       if (!scene.has_continuum) p.fail("bar_at", "the scene has no continuum");
       if (quantity == "position") p.fail("quantity", "the bar has displacement and velocity, not position");
-      probe.bar_at = p.real("bar_at");
+      probe.bar_at = p.real("bar_at", Range{0.0, scene.bar->length, false, false});
       probe.kind = quantity == "velocity" ? Probe::Kind::bar_velocity : Probe::Kind::bar_displacement;
     } else {
       p.fail("quantity", "'" + quantity + "' needs \"particle\" or \"bar_at\"");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene/json_reader.hpp"
+#include "xfdem/bar.hpp"
 #include "xfdem/dem.hpp"
 
 namespace xfdem::scene {
@@ -50,6 +51,8 @@ struct Scene {
   std::variant<std::monostate, DemDesc<1>, DemDesc<2>, DemDesc<3>> dem;
   std::vector<std::string> particle_names;
   bool has_continuum = false;
+  /// The continuum (a bar: 1D only).
+  std::optional<BarDesc> bar;
   std::vector<Probe> probes;
 };
 
