@@ -180,6 +180,19 @@ struct DemState {
   /// Positions at the last list build (grid broad phase).
   std::array<std::vector<double>, D> x_ref;
   std::int32_t pairs_valid = 0;
+  // Moving planes, driven by the host between steps (the coupled stepper drives
+  // one with the continuum's boundary). Plane p's point at time t is
+  //   point_p + normal_p · (plane_offset[p] + plane_speed[p] · (t − plane_time)),
+  // and the dashpot sees the particle's velocity relative to plane_speed.
+  std::vector<double> plane_offset, plane_speed;
+  double plane_time = 0;
+  /// Impulse the particles received from each plane (N·s along its normal)
+  /// since the host last zeroed it, integrated with the integrator's own
+  /// weights: it equals the planes' share of Σ m Δv to round-off.
+  std::vector<double> plane_impulse;
+  /// Total normal force of each plane at the evaluations kept in the history
+  /// slots (same ring as hist_a), for the multistep weights.
+  std::array<std::vector<double>, 4> hist_plane_force;
   // Diagnostics (high-water marks and counters), part of the state so that
   // a replay reproduces them.
   std::int64_t list_builds = 0;
@@ -201,6 +214,15 @@ struct DemWorkspace {
   std::vector<std::int32_t> cell_start, cell_particles, particle_cell;
   /// Frozen contact set for abm4_events: start-of-interval state the kernels read.
   ConstColumns<D> mode_x{}, mode_v{};
+  /// Time of the state being evaluated (moving planes), set before each evaluation.
+  double eval_time = 0;
+  /// Time of the frozen start-of-interval state (abm4_events).
+  double mode_time = 0;
+  /// Total normal force of each plane on the particles at the last evaluation (N).
+  std::vector<double> plane_force;
+  std::vector<double> plane_force0;    ///< at (x0, v0) (abm4_events)
+  std::vector<double> plane_weighted;  ///< Σ weights · force of the step being built
+  std::vector<double> plane_step_impulse;  ///< sum over the pieces of an event-split step
   std::int32_t grid_cells_used = 0;
 };
 
@@ -212,6 +234,16 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& model, DemState<D>& s
 /// Advances the particles by model.dt. Never allocates, throws or locks.
 template <int D>
 StepStatus dem_step(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
+
+/// Moves plane p from now on: its point is at `offset` along its normal from
+/// where it was built at the current time, moving at `speed` (m/s along the
+/// normal). Call between steps (the coupled stepper does, once per continuum
+/// step). If a particle touches the plane now, the force at the current state
+/// changes with the plane's speed, so the stored acceleration is re-evaluated at
+/// the next step and a multistep history restarts (three RK4 steps); otherwise
+/// nothing else changes. Allocation-free.
+template <int D>
+void dem_drive_plane(const DemModel<D>& model, DemState<D>& state, std::int32_t plane, double offset, double speed);
 
 /// Stable step factor y = ω h of an integrator for one linear contact with
 /// damping ratio ζ: the largest ω h at which one undamped contact period
@@ -276,6 +308,11 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   visit("pair_eta", pair_eta.data(), pair_eta.size());
   for (int d = 0; d < D; ++d) visit("x_ref", x_ref[d].data(), x_ref[d].size());
   visit("pairs_valid", &pairs_valid, 1);
+  visit("plane_offset", plane_offset.data(), plane_offset.size());
+  visit("plane_speed", plane_speed.data(), plane_speed.size());
+  visit("plane_time", &plane_time, 1);
+  visit("plane_impulse", plane_impulse.data(), plane_impulse.size());
+  for (int k = 0; k < 4; ++k) visit("hist_plane_force", hist_plane_force[k].data(), hist_plane_force[k].size());
   visit("list_builds", &list_builds, 1);
   visit("peak_pairs", &peak_pairs, 1);
   visit("peak_neighbors", &peak_neighbors, 1);

@@ -227,6 +227,12 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   s.pair_stiffness.assign(up, 0.0);
   s.pair_eta.assign(up, 0.0);
   for (auto* c : {&w.xs, &w.vs, &w.as, &w.sum_x, &w.sum_v, &w.x0, &w.v0, &w.a0, &w.x1, &w.v1}) size_columns<D>(*c, un);
+  const std::size_t planes = desc.planes.size();
+  s.plane_offset.assign(planes, 0.0);
+  s.plane_speed.assign(planes, 0.0);
+  s.plane_impulse.assign(planes, 0.0);
+  for (auto& f : s.hist_plane_force) f.assign(planes, 0.0);
+  for (auto* v : {&w.plane_force, &w.plane_force0, &w.plane_weighted, &w.plane_step_impulse}) v->assign(planes, 0.0);
   if (m.features.broad_phase == BroadPhase::grid) {
     w.cell_start.assign(static_cast<std::size_t>(max_cells) + 1, 0);
     w.cell_particles.assign(un, 0);
@@ -261,6 +267,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       v[d] = s.v[d].data();
       a[d] = s.hist_a[0][d].data();
     }
+    w.eval_time = 0.0;
     const StepStatus status = m.accelerations(m, s, w, x, v, a);
     if (has(status, kStepNotTaken)) {
       char text[128];
@@ -270,6 +277,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                   describe(status, text, sizeof(text)));
     }
     for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
+    s.hist_plane_force[0] = w.plane_force;
   }
   s.history_count = 1;
   return BuildResult::success();

@@ -36,27 +36,41 @@ StepStatus refresh_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
+/// Where plane p is at time t (it moves when the host drives it).
+template <int D>
+std::array<double, D> plane_point_at(const DemModel<D>& m, const DemState<D>& s, std::size_t p, double t) {
+  std::array<double, D> point = m.plane_point[p];
+  const double shift = s.plane_offset[p] + s.plane_speed[p] * (t - s.plane_time);
+  for (int d = 0; d < D; ++d) point[d] += shift * m.plane_normal[p][d];
+  return point;
+}
+
 /// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i), plane by plane
-/// (so each particle receives its plane contributions in plane order).
+/// (so each particle receives its plane contributions in plane order). Also
+/// sums each plane's force into w.plane_force for the impulse ledger.
 template <int D, bool Damped, bool NonTensile>
-void plane_forces(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) {
+void plane_forces(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
+                  ConstColumns<D> v, Columns<D> a) {
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const double* stiffness = m.stiffness.data();
   const double* plane_eta = m.plane_eta.data();
   const std::size_t planes = m.plane_point.size();
   for (std::size_t p = 0; p < planes; ++p) {
-    const auto& point = m.plane_point[p];
+    const std::array<double, D> point = plane_point_at(m, s, p, w.eval_time);
     const auto& normal = m.plane_normal[p];
+    const double speed = s.plane_speed[p];
+    double total = 0;
     auto contact = [&](std::int32_t i) {
       double gap = 0;
       for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * normal[d];
       const double overlap = radius[i] - gap;
       if (!(overlap > 0)) return;
-      double rate = 0;
+      double rate = speed;
       if constexpr (Damped)
         for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
       const double force = normal_force<Damped, NonTensile>(stiffness[i], plane_eta[i], overlap, rate);
+      total += force;
       const double scaled = force * inv_mass[i];
       for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
     };
@@ -73,6 +87,7 @@ void plane_forces(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v, Co
     } else {
       for (std::int32_t i = 0; i < m.n; ++i) contact(i);
     }
+    w.plane_force[p] = total;
   }
 }
 
@@ -211,7 +226,7 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     for (std::int32_t i = 0; i < n; ++i) ad[i] = g;
   }
   if constexpr (!Frozen) {
-    plane_forces<D, Damped, NonTensile>(m, x, v, a);
+    plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a);
     if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
     if (m.features.broad_phase == BroadPhase::grid) {
       const StepStatus status = refresh_pair_list<D>(m, s, w, x);
@@ -228,25 +243,32 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   // Particle–plane contacts (K = k_i, m_eff = m_i).
   const std::size_t planes = m.plane_point.size();
   for (std::size_t p = 0; p < planes; ++p) {
-    const auto& point = m.plane_point[p];
+    // The frozen set is decided at the interval start, with the plane where it
+    // was then (w.mode_time); the force uses the plane where it is now.
+    const std::array<double, D> point = plane_point_at(m, s, p, w.eval_time);
+    const std::array<double, D> point0 = plane_point_at(m, s, p, w.mode_time);
     const auto& normal = m.plane_normal[p];
+    const double speed = s.plane_speed[p];
+    double total = 0;
     for (std::int32_t i = 0; i < n; ++i) {
       double gap = 0;
       for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * normal[d];
       const double overlap = radius[i] - gap;
-      double gap0 = 0, rate0 = 0;
+      double gap0 = 0, rate0 = speed;
       for (int d = 0; d < D; ++d) {
-        gap0 += (w.mode_x[d][i] - point[d]) * normal[d];
+        gap0 += (w.mode_x[d][i] - point0[d]) * normal[d];
         rate0 -= w.mode_v[d][i] * normal[d];
       }
       if (!(contact_indicator(NonTensile, radius[i] - gap0, rate0, stiffness[i], plane_eta[i]) > 0)) continue;
-      double rate = 0;
+      double rate = speed;
       if constexpr (Damped)
         for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
       const double force = normal_force<Damped, false>(stiffness[i], plane_eta[i], overlap, rate);
+      total += force;
       const double scaled = force * inv_mass[i];
       for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
     }
+    w.plane_force[p] = total;
   }
 
   // Particle–particle contacts from the pair list.

@@ -8,6 +8,7 @@
 //
 // History convention: slot `history_head` of hist_v/hist_a holds f(y_n).
 #include <cmath>
+#include <initializer_list>
 
 #include "dem/forces.hpp"
 
@@ -31,13 +32,32 @@ Columns<D> view(std::array<std::vector<double>, D>& a) {
 
 constexpr bool stop_now(StepStatus s) { return has(s, kStepNotTaken); }
 
+/// One force evaluation of the state (x, v) at time t (moving planes need it).
+template <int D>
+StepStatus evaluate(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> kernel, double t,
+                    ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) {
+  w.eval_time = t;
+  return kernel(m, s, w, x, v, a);
+}
+
+/// out = c · Σ_k weight_k · force_k over the planes (the impulse ledger).
+inline void weigh(std::vector<double>& out, double c, std::initializer_list<std::pair<double, const double*>> terms) {
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    double sum = 0;
+    for (const auto& [weight, force] : terms) sum += weight * force[p];
+    out[p] = c * sum;
+  }
+}
+
 /// One classical RK4 step of size h from (x0, v0) whose acceleration a0 is
 /// known, into (x1, v1). Stage work in w.xs/vs/as and w.sum_x/sum_v.
 /// S3 is evaluated at y_n + S2 h/2 (paper-notes, slip in eq 31).
+/// t0 is the time of (x0, v0) and f0 the planes' forces there; the planes'
+/// weighted impulse h/6 (F1 + 2F2 + 2F3 + F4) is left in w.plane_weighted.
 template <int D>
 StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> kernel,
-                    ConstColumns<D> x0, ConstColumns<D> v0, ConstColumns<D> a0, double h, Columns<D> x1,
-                    Columns<D> v1) {
+                    double t0, ConstColumns<D> x0, ConstColumns<D> v0, ConstColumns<D> a0, const double* f0, double h,
+                    Columns<D> x1, Columns<D> v1) {
   const std::int32_t n = m.n;
   const double half = 0.5 * h;
   auto xs = view<D>(w.xs), vs = view<D>(w.vs), as = view<D>(w.as);
@@ -52,8 +72,11 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
       xs[d][i] = x0[d][i] + half * v0[d][i];
       vs[d][i] = v0[d][i] + half * a0[d][i];
     }
-  StepStatus status = kernel(m, s, w, cxs, cvs, as);
+  std::vector<double>& ledger = w.plane_weighted;
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = f0[p];
+  StepStatus status = evaluate<D>(m, s, w, kernel, t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S2 = (vs, as); stage 3 at y0 + S2 h/2.
   for (int d = 0; d < D; ++d)
     for (std::int32_t i = 0; i < n; ++i) {
@@ -63,8 +86,9 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
       xs[d][i] = x0[d][i] + half * s2x;
       vs[d][i] = v0[d][i] + half * s2v;
     }
-  status |= kernel(m, s, w, cxs, cvs, as);
+  status |= evaluate<D>(m, s, w, kernel, t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S3; stage 4 at y0 + S3 h.
   for (int d = 0; d < D; ++d)
     for (std::int32_t i = 0; i < n; ++i) {
@@ -74,9 +98,10 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
       xs[d][i] = x0[d][i] + h * s3x;
       vs[d][i] = v0[d][i] + h * s3v;
     }
-  status |= kernel(m, s, w, cxs, cvs, as);
+  status |= evaluate<D>(m, s, w, kernel, t0 + h, cxs, cvs, as);
   if (stop_now(status)) return status;
   const double sixth = h / 6.0;
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
   for (int d = 0; d < D; ++d)
     for (std::int32_t i = 0; i < n; ++i) {
       x1[d][i] = x0[d][i] + sixth * (sx[d][i] + vs[d][i]);
@@ -87,15 +112,20 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
 
 /// Makes (w.x1, w.v1) the new state and `acc` its acceleration (kept in a new
 /// history slot). Buffers are swapped, not copied.
+/// The planes' forces at the last evaluation (of the new state) go into the
+/// same history slot, and the step's plane impulse `impulse` into the ledger.
 template <int D>
-void commit(DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc, bool advance_history) {
-  const std::int32_t slot = advance_history ? (s.history_head + 1) % 4 : s.history_head;
+void commit(DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc,
+            const std::vector<double>& impulse) {
+  const std::int32_t slot = (s.history_head + 1) % 4;
   for (int d = 0; d < D; ++d) {
     s.x[d].swap(w.x1[d]);
     s.v[d].swap(w.v1[d]);
     s.hist_a[slot][d].swap(acc[d]);
     s.hist_v[slot][d] = s.v[d];  // same size: copies in place, no allocation
   }
+  s.hist_plane_force[slot] = w.plane_force;
+  for (std::size_t p = 0; p < impulse.size(); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
 }
 
@@ -103,11 +133,12 @@ void commit(DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, 
 template <int D>
 StepStatus ensure_current_acceleration(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   if (s.history_count > 0) return StepStatus::ok;
-  const StepStatus status = m.accelerations(m, s, w, view<D>(static_cast<const decltype(s.x)&>(s.x)),
-                                            view<D>(static_cast<const decltype(s.v)&>(s.v)),
-                                            view<D>(s.hist_a[s.history_head]));
+  const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time, view<D>(static_cast<const decltype(s.x)&>(s.x)),
+                                       view<D>(static_cast<const decltype(s.v)&>(s.v)),
+                                       view<D>(s.hist_a[s.history_head]));
   if (stop_now(status)) return status;
   for (int d = 0; d < D; ++d) s.hist_v[s.history_head][d] = s.v[d];
+  s.hist_plane_force[s.history_head] = w.plane_force;
   s.history_count = 1;
   return status;
 }
@@ -115,14 +146,15 @@ StepStatus ensure_current_acceleration(const DemModel<D>& m, DemState<D>& s, Dem
 template <int D>
 StepStatus step_rk4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   const auto& cs = s;
-  StepStatus status = rk4_step<D>(m, s, w, m.accelerations, view<D>(cs.x), view<D>(cs.v),
-                               view<D>(cs.hist_a[s.history_head]), m.dt, view<D>(w.x1), view<D>(w.v1));
+  StepStatus status = rk4_step<D>(m, s, w, m.accelerations, s.time, view<D>(cs.x), view<D>(cs.v),
+                                  view<D>(cs.hist_a[s.history_head]), s.hist_plane_force[s.history_head].data(), m.dt,
+                                  view<D>(w.x1), view<D>(w.v1));
   if (stop_now(status)) return status;
   // f(y_{n+1}) is S1 of the next step (and the multistep history).
-  status |= m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                            view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  status |= evaluate<D>(m, s, w, m.accelerations, s.time + m.dt, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                        view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.a0, true);
+  commit<D>(s, w, w.a0, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
@@ -139,12 +171,14 @@ StepStatus step_verlet(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w)
       w.x1[d][i] = s.x[d][i] + h * v_half;
     }
   // The dashpot sees the half-step velocity (explicit; LIGGGHTS does the same).
-  const StepStatus status = m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                                            view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.a0));
+  const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time + h,
+                                        view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                                        view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.a0));
   if (stop_now(status)) return status;
   for (int d = 0; d < D; ++d)
     for (std::int32_t i = 0; i < n; ++i) w.v1[d][i] = w.vs[d][i] + half * w.a0[d][i];
-  commit<D>(s, w, w.a0, true);
+  weigh(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
+  commit<D>(s, w, w.a0, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
@@ -160,10 +194,12 @@ StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorksp
       w.v1[d][i] = v_new;
       w.x1[d][i] = s.x[d][i] + h * v_new;
     }
-  const StepStatus status = m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                                            view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time + h,
+                                        view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                                        view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.a0, true);
+  weigh(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
+  commit<D>(s, w, w.a0, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
@@ -187,9 +223,14 @@ StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, A
       vs[i] = v[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
     }
   }
-  StepStatus status = predict_kernel(m, s, w, view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
-                                     view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
+  StepStatus status = evaluate<D>(m, s, w, predict_kernel, s.time + m.dt,
+                                  view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
+                                  view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
   if (stop_now(status)) return status;
+  // The planes' share of the corrector's velocity update.
+  weigh(w.plane_weighted, c,
+        {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
+         {1.0, s.hist_plane_force[f2].data()}});
   for (int d = 0; d < D; ++d) {
     const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
     const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
@@ -209,28 +250,29 @@ StepStatus step_abm4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   if (s.history_count < 4) return step_rk4(m, s, w);  // the three RK4 start steps
   StepStatus status = abm4_pece<D>(m, s, w, m.accelerations);
   if (stop_now(status)) return status;
-  status |= m.accelerations(m, s, w, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                            view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  status |= evaluate<D>(m, s, w, m.accelerations, s.time + m.dt, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
+                        view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.a0, true);
+  commit<D>(s, w, w.a0, w.plane_weighted);
   return status;
 }
 
 // ---- contact events (abm4_events) ------------------------------------------
 
-/// True when some contact is on at (xa, va) and off at (xb, vb) or the reverse.
+/// True when some contact is on at (xa, va, time ta) and off at (xb, vb, tb)
+/// or the reverse.
 template <int D>
-bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, ConstColumns<D> xa, ConstColumns<D> va,
-                         ConstColumns<D> xb, ConstColumns<D> vb) {
+bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, double ta, ConstColumns<D> xa,
+                         ConstColumns<D> va, double tb, ConstColumns<D> xb, ConstColumns<D> vb) {
   const bool nontensile = m.features.nontensile;
   for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
-    const auto& point = m.plane_point[p];
+    const auto pa = dem_detail::plane_point_at(m, s, p, ta), pb = dem_detail::plane_point_at(m, s, p, tb);
     const auto& normal = m.plane_normal[p];
     for (std::int32_t i = 0; i < m.n; ++i) {
-      double ga = 0, gb = 0, ra = 0, rb = 0;
+      double ga = 0, gb = 0, ra = s.plane_speed[p], rb = s.plane_speed[p];
       for (int d = 0; d < D; ++d) {
-        ga += (xa[d][i] - point[d]) * normal[d];
-        gb += (xb[d][i] - point[d]) * normal[d];
+        ga += (xa[d][i] - pa[d]) * normal[d];
+        gb += (xb[d][i] - pb[d]) * normal[d];
         ra -= va[d][i] * normal[d];
         rb -= vb[d][i] * normal[d];
       }
@@ -270,45 +312,55 @@ bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, ConstColumn
 template <int D>
 StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   const auto& cs = s;
+  const double t_n = s.time, t_end = s.time + m.dt;
   auto x_n = view<D>(cs.x), v_n = view<D>(cs.v);
   w.mode_x = x_n;
   w.mode_v = v_n;
+  w.mode_time = t_n;
   StepStatus status;
   if (s.history_count < 4) {
-    status = rk4_step<D>(m, s, w, m.accelerations_frozen, x_n, v_n, view<D>(cs.hist_a[s.history_head]), m.dt,
-                      view<D>(w.x1), view<D>(w.v1));
+    status = rk4_step<D>(m, s, w, m.accelerations_frozen, t_n, x_n, v_n, view<D>(cs.hist_a[s.history_head]),
+                         s.hist_plane_force[s.history_head].data(), m.dt, view<D>(w.x1), view<D>(w.v1));
   } else {
     status = abm4_pece<D>(m, s, w, m.accelerations_frozen);
   }
   if (stop_now(status)) return status;
   auto x1c = view<D>(static_cast<const decltype(w.x1)&>(w.x1));
   auto v1c = view<D>(static_cast<const decltype(w.v1)&>(w.v1));
-  if (!contact_set_changed<D>(m, s, x_n, v_n, x1c, v1c)) {
-    status |= m.accelerations(m, s, w, x1c, v1c, view<D>(w.a0));
+  if (!contact_set_changed<D>(m, s, t_n, x_n, v_n, t_end, x1c, v1c)) {
+    status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.a0));
     if (stop_now(status)) return status;
-    commit<D>(s, w, w.a0, true);
+    commit<D>(s, w, w.a0, w.plane_weighted);
     s.history_count = std::min(s.history_count + 1, 4);
     return status;
   }
 
-  // Event(s) inside the step. Work from (x0, v0, a0) = start of the remaining interval.
-  const std::int32_t n = m.n;
+  // Event(s) inside the step. Work from (x0, v0, a0, plane_force0) = the start
+  // of the remaining interval; the planes' impulse of the accepted pieces adds
+  // up in plane_step_impulse.
   for (int d = 0; d < D; ++d) {
     w.x0[d] = s.x[d];
     w.v0[d] = s.v[d];
     w.a0[d] = s.hist_a[s.history_head][d];
   }
+  w.plane_force0 = s.hist_plane_force[s.history_head];
+  for (double& J : w.plane_step_impulse) J = 0.0;
   auto x0 = view<D>(static_cast<const decltype(w.x0)&>(w.x0));
   auto v0 = view<D>(static_cast<const decltype(w.v0)&>(w.v0));
   auto a0 = view<D>(static_cast<const decltype(w.a0)&>(w.a0));
-  double remaining = m.dt;
+  double t0 = t_n, remaining = m.dt;
   std::int32_t events = 0;
+  auto piece = [&](double length) {
+    return rk4_step<D>(m, s, w, m.accelerations_frozen, t0, x0, v0, a0, w.plane_force0.data(), length, view<D>(w.x1),
+                       view<D>(w.v1));
+  };
   for (;;) {
     w.mode_x = x0;
     w.mode_v = v0;
-    status |= rk4_step<D>(m, s, w, m.accelerations_frozen, x0, v0, a0, remaining, view<D>(w.x1), view<D>(w.v1));
+    w.mode_time = t0;
+    status |= piece(remaining);
     if (stop_now(status)) return status;
-    if (!contact_set_changed<D>(m, s, x0, v0, x1c, v1c)) break;
+    if (!contact_set_changed<D>(m, s, t0, x0, v0, t0 + remaining, x1c, v1c)) break;
     if (events == m.capacities.max_events_per_step) {
       status |= StepStatus::event_capacity;
       break;
@@ -317,13 +369,15 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
     double lo = 0.0, hi = 1.0;
     for (int it = 0; it < 48; ++it) {
       const double mid = 0.5 * (lo + hi);
-      status |= rk4_step<D>(m, s, w, m.accelerations_frozen, x0, v0, a0, mid * remaining, view<D>(w.x1), view<D>(w.v1));
+      status |= piece(mid * remaining);
       if (stop_now(status)) return status;
-      (contact_set_changed<D>(m, s, x0, v0, x1c, v1c) ? hi : lo) = mid;
+      (contact_set_changed<D>(m, s, t0, x0, v0, t0 + mid * remaining, x1c, v1c) ? hi : lo) = mid;
     }
     // Land just past the event, where the new contact set holds.
-    status |= rk4_step<D>(m, s, w, m.accelerations_frozen, x0, v0, a0, hi * remaining, view<D>(w.x1), view<D>(w.v1));
+    const double length = hi * remaining;
+    status |= piece(length);
     if (stop_now(status)) return status;
+    for (std::size_t p = 0; p < w.plane_step_impulse.size(); ++p) w.plane_step_impulse[p] += w.plane_weighted[p];
     for (int d = 0; d < D; ++d) {
       w.x0[d].swap(w.x1[d]);
       w.v0[d].swap(w.v1[d]);
@@ -332,17 +386,19 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
     v0 = view<D>(static_cast<const decltype(w.v0)&>(w.v0));
     x1c = view<D>(static_cast<const decltype(w.x1)&>(w.x1));
     v1c = view<D>(static_cast<const decltype(w.v1)&>(w.v1));
-    status |= m.accelerations(m, s, w, x0, v0, view<D>(w.a0));
+    t0 += length;
+    remaining -= length;
+    status |= evaluate<D>(m, s, w, m.accelerations, t0, x0, v0, view<D>(w.a0));
     if (stop_now(status)) return status;
-    remaining -= hi * remaining;
+    w.plane_force0 = w.plane_force;
     ++events;
   }
-  (void)n;
+  for (std::size_t p = 0; p < w.plane_step_impulse.size(); ++p) w.plane_step_impulse[p] += w.plane_weighted[p];
   w.mode_x = {};
   w.mode_v = {};
-  status |= m.accelerations(m, s, w, x1c, v1c, view<D>(w.as));
+  status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.as));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.as, true);
+  commit<D>(s, w, w.as, w.plane_step_impulse);
   s.history_count = 1;  // restart: the next three steps are RK4
   s.events_located += events;
   s.peak_events = std::max(s.peak_events, events);
@@ -383,6 +439,22 @@ StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   if (!all_finite(m, s)) status |= StepStatus::non_finite;
   return status;
 }
+
+template <int D>
+void dem_drive_plane(const DemModel<D>& m, DemState<D>& s, std::int32_t p, double offset, double speed) {
+  (void)m;
+  const auto q = static_cast<std::size_t>(p);
+  const bool touching = s.history_count > 0 && s.hist_plane_force[s.history_head][q] != 0.0;
+  const bool changed = s.plane_offset[q] + s.plane_speed[q] * (s.time - s.plane_time) != offset || s.plane_speed[q] != speed;
+  s.plane_offset[q] = offset;
+  s.plane_speed[q] = speed;
+  s.plane_time = s.time;
+  if (touching && changed) s.history_count = 0;
+}
+
+template void dem_drive_plane<1>(const DemModel<1>&, DemState<1>&, std::int32_t, double, double);
+template void dem_drive_plane<2>(const DemModel<2>&, DemState<2>&, std::int32_t, double, double);
+template void dem_drive_plane<3>(const DemModel<3>&, DemState<3>&, std::int32_t, double, double);
 
 template StepStatus dem_step<1>(const DemModel<1>&, DemState<1>&, DemWorkspace<1>&);
 template StepStatus dem_step<2>(const DemModel<2>&, DemState<2>&, DemWorkspace<2>&);

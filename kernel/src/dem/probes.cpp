@@ -9,9 +9,10 @@ namespace {
 
 template <int D>
 double plane_overlap(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::size_t p, double* rate) {
-  double gap = 0, r = 0;
+  const auto point = dem_detail::plane_point_at(m, s, p, s.time);
+  double gap = 0, r = s.plane_speed[p];
   for (int d = 0; d < D; ++d) {
-    gap += (s.x[d][i] - m.plane_point[p][d]) * m.plane_normal[p][d];
+    gap += (s.x[d][i] - point[d]) * m.plane_normal[p][d];
     r -= s.v[d][i] * m.plane_normal[p][d];
   }
   if (rate) *rate = r;
