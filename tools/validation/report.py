@@ -30,9 +30,11 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 
 import v1_drop  # noqa: E402
+import v2_rod  # noqa: E402
 
 HANDLERS = {
     v1_drop.CASE: v1_drop.analyse,
+    v2_rod.CASE: v2_rod.analyse,
 }
 
 
