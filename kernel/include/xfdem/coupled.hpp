@@ -3,20 +3,26 @@
 // contact at its interface) and touching its top end (type c contact).
 //
 // One coupled step advances the bar by dt and the particles by `dem_substeps`
-// substeps of dt/n (the paper's step delay, n = 10):
-//   1. the bar steps from t_n to t_{n+1} under the average force f̄ the
-//      particles exerted on its top during the previous window, held constant
-//      over the step (its acceleration at t_n is re-evaluated with f̄, so the
-//      impulse the bar receives is exactly dt·f̄);
-//   2. the particles take n substeps seeing the bar's top as a plane that moves
-//      linearly from its position at t_n to its position at t_{n+1} (speed
-//      (u_{n+1} − u_n)/dt, which the dashpot sees too);
-//   3. the impulse J the particles received from the top over the window, as
-//      their integrator integrated it, becomes the next window's f̄ = −J/dt.
-// So the impulse given to the particles equals minus the impulse received by
-// the bar, window by window, one step later: CoupledState::pending_impulse
-// holds the one not yet delivered. docs/coupling.md gives the details and the
-// stability region that coupled_step() checks.
+// substeps of dt/n (the paper's step delay, n = 10). Within the window:
+//   - the particles see the bar's top as a plane moving linearly from its
+//     position at t_n to its position at t_{n+1} (speed (u_{n+1} − u_n)/dt,
+//     which their dashpot sees too);
+//   - the bar receives, as a force held constant over the step, the impulse
+//     the particles took from the top over the window, averaged: f̄ = −J/dt
+//     (its acceleration at t_n is re-evaluated with f̄, so the impulse Newmark
+//     delivers is exactly f̄·dt).
+// The two depend on each other, so the window is iterated to the fixed point
+// f̄ = −J(f̄)/dt: a first pass with last window's force, a second with the
+// force that pass produced, then secant steps. For a linear contact on a tied
+// bar J is affine in f̄ and the secant lands on the fixed point (to round-off)
+// at the third pass; a contact that opens or closes inside the window may take
+// a few more. Without contact with the top one pass suffices. At the fixed
+// point the particles and the bar see the same top motion and exchange equal
+// and opposite impulses, so the exchange creates no momentum and no energy
+// (the work −J·v̄ done on the bar equals the work J·v̄ the particles did).
+// Whatever residual is left is carried into the next window's force, so the
+// momentum books close to round-off at every step (CoupledState::pending_impulse).
+// docs/coupling.md gives the details and the stability map.
 #pragma once
 #include <cstdint>
 
@@ -32,8 +38,9 @@ struct CoupledDesc {
   DemDesc<1> dem;
   BarDesc bar;
   int dem_substeps = 10;
-  /// Refuse to build when the stiffest particle–top contact is outside the
-  /// staggered scheme's stable region (see coupled_stability_margin).
+  /// Refuse to build when a particle's substep dt/n exceeds the particle
+  /// integrator's stable step for its contact with the top node, a two-mass
+  /// oscillator ω_c² = k (1/m_top + 1/m_particle).
   bool reject_unstable_coupling = true;
 };
 
@@ -45,23 +52,29 @@ struct CoupledModel {
   std::int32_t top_plane = -1;    ///< index of the plane that stands for the bar's top
   double top_position = 0;        ///< x of the undeformed top (the bar's length), m
   double max_contact_stiffness = 0;  ///< max over particles of k_i (the type c contact is K = k_i), N/m
-  /// ω_c dt of the stiffest particle–top contact, ω_c² = k (1/m_tip + 1/m_p)
-  /// with m_tip the top node's lumped mass; must stay below kCoupledStableOmegaDt.
-  double coupling_omega_dt = 0;
+  /// ω_c of the stiffest particle–top contact, ω_c² = k (1/m_top + 1/m_p), with
+  /// m_top the top node's lumped mass (rad/s).
+  double coupling_omega = 0;
 };
 
-/// Largest ω_c·dt for which the staggered scheme is stable (measured by
-/// tests/coupling/stability_map_test.cpp; docs/coupling.md shows the map).
-inline constexpr double kCoupledStableOmegaDt = 1.0;
+/// Passes of one window at most while looking for the fixed point; a window
+/// that has not settled by then is taken with its last force and flagged
+/// coupling_unstable (its residual is carried, so momentum stays exact).
+inline constexpr int kCoupledMaxPasses = 12;
 
 struct CoupledState {
   DemState<1> dem;
   BarState bar;
-  double coupling_force = 0;   ///< f̄ applied to the bar's top during the current step, N (up)
-  double pending_impulse = 0;  ///< J of the last window, not yet delivered to the bar, N·s (up on particles)
-  /// Totals since the start, for the momentum check: Σ J over the windows the
-  /// particles lived, and Σ f̄ dt delivered to the bar.
+  double coupling_force = 0;   ///< f̄ the bar's top received over the last step, N (up)
+  /// Σ impulse to particles + Σ impulse to the bar: the part of the exchange not
+  /// yet balanced (a round-off-sized fixed-point residual), N·s. It is added to
+  /// the next window's force on the bar.
+  double pending_impulse = 0;
+  /// Totals since the start: Σ J the particles took from the top, Σ f̄ dt the
+  /// bar received (N·s, up).
   double impulse_to_particles = 0, impulse_to_bar = 0;
+  std::int32_t last_passes = 0;  ///< passes the last window needed
+  std::int32_t peak_passes = 0;
   std::int64_t step = 0;
   double time = 0;
 };
@@ -69,6 +82,8 @@ struct CoupledState {
 struct CoupledWorkspace {
   DemWorkspace<1> dem;
   BarWorkspace bar;
+  DemState<1> dem_start;  ///< the particles at t_n, restored for every pass
+  BarState bar_start;     ///< the bar at t_n
 };
 
 /// Builds both halves; the only allocating call. Messages name the field
@@ -77,8 +92,8 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& model, CoupledS
                           CoupledWorkspace& workspace);
 
 /// One continuum step and its particle substeps. Never allocates. Flags:
-/// whatever the halves return, plus coupling_unstable when a particle touches
-/// the top with ω_c dt above the stable bound (the step is still taken).
+/// whatever the halves return, plus coupling_unstable when the window's
+/// fixed point was not reached in kCoupledMaxPasses passes (the step is taken).
 StepStatus coupled_step(const CoupledModel& model, CoupledState& state, CoupledWorkspace& workspace);
 
 /// Force of particle i on the bar's top, compressive positive (N).
