@@ -38,9 +38,9 @@ struct CoupledDesc {
   DemDesc<1> dem;
   BarDesc bar;
   int dem_substeps = 10;
-  /// Refuse to build when a particle's substep dt/n exceeds the particle
-  /// integrator's stable step for its contact with the top node, a two-mass
-  /// oscillator ω_c² = k (1/m_top + 1/m_particle).
+  /// Refuse to build when the stiffest particle–top contact, a two-mass
+  /// oscillator ω_c² = k (1/m_top + 1/m_particle), has ω_c·dt above
+  /// kCoupledMaxOmegaDt or ω_c·dt/n above the particle integrator's stable step.
   bool reject_unstable_coupling = true;
 };
 
@@ -61,6 +61,14 @@ struct CoupledModel {
 /// that has not settled by then is taken with its last force and flagged
 /// coupling_unstable (its residual is carried, so momentum stays exact).
 inline constexpr int kCoupledMaxPasses = 12;
+
+/// Largest ω_c·dt (ω_c² = k (1/m_top + 1/m_particle), dt the continuum step)
+/// at which every window of a particle bouncing on and resting on the top
+/// settled within kCoupledMaxPasses, with n = 1 and n = 10 substeps, damped and
+/// undamped (tests/coupling/stability_map_test.cpp; at 2 some windows no longer
+/// settle). The substep dt/n must also be inside the particle integrator's own
+/// stable step for ω_c.
+inline constexpr double kCoupledMaxOmegaDt = 1.0;
 
 struct CoupledState {
   DemState<1> dem;

@@ -41,6 +41,11 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
                                 "rad/s, m_top = %g kg); reduce time.dt or raise time.dem_substeps",
                                 dem.dt, factor / m.coupling_omega, integrator_name(dem.integrator), m.coupling_omega,
                                 m.bar.tip_mass);
+  if (desc.reject_unstable_coupling && m.coupling_omega * m.dt > kCoupledMaxOmegaDt)
+    return BuildResult::failure(BuildResult::Code::unstable_time_step,
+                                "time.dt: %g s is too long for the particle-bar exchange to settle: omega*dt = %.3g > %.3g "
+                                "(omega = sqrt(k (1/m_top + 1/m_particle)) = %g rad/s, m_top = %g kg); reduce time.dt",
+                                m.dt, m.coupling_omega * m.dt, kCoupledMaxOmegaDt, m.coupling_omega, m.bar.tip_mass);
   w.dem_start = s.dem;
   w.bar_start = s.bar;
   return BuildResult::success();
