@@ -56,9 +56,12 @@ namespace {
 /// One pass of the window from the saved start: the bar under `force`, then
 /// the particles seeing its top move linearly. Returns J (the particles'
 /// impulse from the top).
-StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w, double force, double& impulse) {
-  s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
-  s.dem = w.dem_start;
+StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w, double force, bool restore,
+                       double& impulse) {
+  if (restore) {  // the first pass starts from the state as it is
+    s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
+    s.dem = w.dem_start;
+  }
   const double u_start = bar_tip_displacement(m.bar, s.bar);
   const BarInput input{force};
   StepStatus status = bar_initial_acceleration(m.bar, s.bar, w.bar, input);
@@ -86,7 +89,7 @@ StepStatus coupled_step(const CoupledModel& m, CoupledState& s, CoupledWorkspace
   const double carried = -s.pending_impulse / m.dt;
   // Fixed point of g(f) = −J(f)/dt − f, from last window's force.
   double f = s.coupling_force, J = 0;
-  StepStatus status = window_pass(m, s, w, f + carried, J);
+  StepStatus status = window_pass(m, s, w, f + carried, false, J);
   if (has(status, kStepNotTaken)) return status;
   double g = -J / m.dt - f;
   double f_prev = 0, g_prev = 0;
@@ -106,7 +109,7 @@ StepStatus coupled_step(const CoupledModel& m, CoupledState& s, CoupledWorkspace
     f_prev = f;
     g_prev = g;
     f = f_next;
-    status |= window_pass(m, s, w, f + carried, J);
+    status |= window_pass(m, s, w, f + carried, true, J);
     if (has(status, kStepNotTaken)) return status;
     g = -J / m.dt - f;
     ++passes;
