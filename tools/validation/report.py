@@ -29,12 +29,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 
+import cases  # noqa: E402
 import v1_drop  # noqa: E402
 import v2_rod  # noqa: E402
 
 HANDLERS = {
     v1_drop.CASE: v1_drop.analyse,
     v2_rod.CASE: v2_rod.analyse,
+    **{case: cases.analyse for case in cases.CASES},
 }
 
 
