@@ -29,3 +29,10 @@ while read -r name scene overrides; do
 done < tools/validation/runs.txt
 
 /usr/bin/python3 tools/validation/report.py --out out
+
+# The figures the README shows, copied where it finds them.
+mkdir -p docs/figures
+for fig in v1_fig6_trajectories v2_fig8_tip case1_fig9_10 case2_fig11_14; do
+  cp "out/$fig.png" "docs/figures/$fig.png"
+done
+echo "reproduce: copied the README figures to docs/figures/"
