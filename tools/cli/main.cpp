@@ -1,6 +1,7 @@
 // xfdem: the command line.
 //
 //   xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N]
+//   xfdem replay record|check ...   (tools/cli/replay.cpp)
 //
 // Validates the whole scene (and every override) before stepping; writes the
 // CSV to a temporary file renamed into place only when the run succeeded, so a
@@ -19,10 +20,14 @@
 #include "scene/scene.hpp"
 #include "xfdem/version.hpp"
 
+int replay_command(int argc, char** argv);  // tools/cli/replay.cpp
+
 namespace {
 
 constexpr const char* kUsage =
     "usage: xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N]\n"
+    "       xfdem replay record SCENE.json [--set KEY=VALUE ...] [--steps N] --out RUN.hashes\n"
+    "       xfdem replay check SCENE.json [--set KEY=VALUE ...] [--steps N] --against RUN.hashes\n"
     "       xfdem --version\n";
 
 int usage_error(const std::string& what) {
@@ -108,9 +113,9 @@ int main(int argc, char** argv) {
     std::fputs(kUsage, stdout);
     return 0;
   }
-  if (command != "run") return usage_error("unknown command '" + command + "'");
+  if (command != "run" && command != "replay") return usage_error("unknown command '" + command + "'");
   try {
-    return run(argc, argv);
+    return command == "replay" ? replay_command(argc, argv) : run(argc, argv);
   } catch (const xfdem::scene::SceneError& e) {
     std::cerr << "xfdem: " << e.what() << "\n";
     return 2;
