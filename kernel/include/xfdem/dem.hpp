@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "xfdem/parallel.hpp"
 #include "xfdem/status.hpp"
 
 namespace xfdem {
@@ -99,6 +100,11 @@ struct DemDesc {
   double skin = 0;
   /// Particle counts up to this use the all_pairs broad phase instead of the grid.
   std::int32_t all_pairs_up_to = 8;
+  /// From this many particles on, the model splits a step's work into two
+  /// fixed parts (particles [0, n/2) and [n/2, n)) that a host's ParallelFor
+  /// may run on two workers; the bits do not depend on the worker count.
+  /// 0: never split. Default from docs/benchmarks.md (where two workers pay).
+  std::int32_t split_from = 2048;
   DemCapacities capacities;
   /// Refuse to build when dt exceeds the integrator's stable step for the
   /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
@@ -150,6 +156,9 @@ struct DemModel {
   double cell_size = 0;  ///< m, 2 r_max + skin
   DemCapacities capacities;  ///< resolved (no zeros)
   DemFeatures features;
+  /// Parts of a step's work (1 or 2) and the first particle of part 1.
+  std::int32_t parts = 1;
+  std::int32_t split = 0;
   /// Largest angular frequency √(K/m_eff) over every possible contact (rad/s).
   double max_contact_omega = 0;
   /// Stable step of the chosen integrator for the stiffest contact (s).
@@ -212,6 +221,12 @@ struct DemWorkspace {
   std::array<std::vector<double>, D> a0;      ///< acceleration at x0, v0
   std::array<std::vector<double>, D> x1, v1;  ///< end of a trial (sub)interval
   std::vector<std::int32_t> cell_start, cell_particles, particle_cell;
+  /// Runs a step's parts; set by the host (e.g. platform::TwoWorkerPool), or
+  /// left empty to run them in order on the calling thread.
+  ParallelFor parallel;
+  /// Part 0's pair contributions to part 1's particles, added after both parts.
+  std::array<std::vector<double>, D> cross;
+  std::vector<double> plane_force_part;  ///< per part, per plane (parts × planes)
   /// Frozen contact set for abm4_events: start-of-interval state the kernels read.
   ConstColumns<D> mode_x{}, mode_v{};
   /// Time of the state being evaluated (moving planes), set before each evaluation.

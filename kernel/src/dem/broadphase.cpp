@@ -145,27 +145,8 @@ StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
   return StepStatus::ok;
 }
 
-template <int D>
-StepStatus refresh_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
-  if (s.pairs_valid) {
-    const double limit = 0.25 * m.skin * m.skin;  // (skin/2)^2
-    bool moved_too_far = false;
-    for (std::int32_t i = 0; i < m.n; ++i) {
-      double moved = 0;
-      for (int d = 0; d < D; ++d) {
-        const double dx = x[d][i] - s.x_ref[d][i];
-        moved += dx * dx;
-      }
-      moved_too_far |= !(moved <= limit);  // NaN counts as too far: the rebuild reports it
-    }
-    if (!moved_too_far) return StepStatus::ok;
-  }
-  return build_pair_list<D>(m, s, w, x);
-}
-
 #define XFDEM_INSTANTIATE(D)                                                                                 \
-  template StepStatus build_pair_list<D>(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, ConstColumns<D>); \
-  template StepStatus refresh_pair_list<D>(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, ConstColumns<D>);
+  template StepStatus build_pair_list<D>(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, ConstColumns<D>);
 XFDEM_INSTANTIATE(1)
 XFDEM_INSTANTIATE(2)
 XFDEM_INSTANTIATE(3)

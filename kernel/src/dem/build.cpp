@@ -148,6 +148,16 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   else
     m.features.broad_phase = BroadPhase::grid;
 
+  if (desc.split_from < 0)
+    return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
+  // The split is a property of the model, never of the number of workers.
+  if (desc.split_from > 0 && n >= desc.split_from && n >= 2) {
+    m.parts = 2;
+    m.split = static_cast<std::int32_t>(n / 2);
+  } else {
+    m.parts = 1;
+    m.split = static_cast<std::int32_t>(n);
+  }
   double r_max = 0;
   for (const auto& p : desc.particles) r_max = std::max(r_max, p.radius);
   m.skin = desc.skin > 0 ? desc.skin : 0.5 * r_max;
@@ -233,6 +243,8 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   s.plane_impulse.assign(planes, 0.0);
   for (auto& f : s.hist_plane_force) f.assign(planes, 0.0);
   for (auto* v : {&w.plane_force, &w.plane_force0, &w.plane_weighted, &w.plane_step_impulse}) v->assign(planes, 0.0);
+  w.plane_force_part.assign(2 * planes, 0.0);
+  size_columns<D>(w.cross, static_cast<std::size_t>(m.n - m.split));
   if (m.features.broad_phase == BroadPhase::grid) {
     w.cell_start.assign(static_cast<std::size_t>(max_cells) + 1, 0);
     w.cell_particles.assign(un, 0);

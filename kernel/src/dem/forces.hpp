@@ -8,6 +8,7 @@
 #endif
 
 #include "xfdem/dem.hpp"
+#include "xfdem/parallel.hpp"
 
 namespace xfdem::dem_detail {
 
@@ -29,10 +30,7 @@ inline double normal_force(double K, double eta, double overlap, double rate) {
   return force;
 }
 
-/// Rebuilds the pair list if any particle moved more than skin/2 since the last
-/// build (grid broad phase only). Defined in broadphase.cpp.
-template <int D>
-StepStatus refresh_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
+/// Builds the pair list (grid broad phase) at positions x. Defined in broadphase.cpp.
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
@@ -49,8 +47,8 @@ std::array<double, D> plane_point_at(const DemModel<D>& m, const DemState<D>& s,
 /// (so each particle receives its plane contributions in plane order). Also
 /// sums each plane's force into w.plane_force for the impulse ledger.
 template <int D, bool Damped, bool NonTensile>
-void plane_forces(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
-                  ConstColumns<D> v, Columns<D> a) {
+void plane_forces(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, ConstColumns<D> x,
+                  ConstColumns<D> v, Columns<D> a, std::int32_t begin, std::int32_t end, double* totals) {
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const double* stiffness = m.stiffness.data();
@@ -82,13 +80,31 @@ void plane_forces(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w
       // the gap are ±0, so one coordinate decides; `contact` re-tests in full.
       const double* xa = x[axis];
       const double pa = point[axis], na = normal[axis];
-      for (std::int32_t i = 0; i < m.n; ++i)
+      for (std::int32_t i = begin; i < end; ++i)
         if (radius[i] - (xa[i] - pa) * na > 0) [[unlikely]] contact(i);
     } else {
-      for (std::int32_t i = 0; i < m.n; ++i) contact(i);
+      for (std::int32_t i = begin; i < end; ++i) contact(i);
     }
-    w.plane_force[p] = total;
+    totals[p] = total;
   }
+}
+
+/// True if a particle of [begin, end) moved more than skin/2 since the pair
+/// list was built (NaN counts as moved: the rebuild then reports it).
+template <int D>
+bool moved_past_half_skin(const DemModel<D>& m, const DemState<D>& s, ConstColumns<D> x, std::int32_t begin,
+                          std::int32_t end) {
+  const double limit = 0.25 * m.skin * m.skin;
+  bool moved = false;
+  for (std::int32_t i = begin; i < end; ++i) {
+    double d2 = 0;
+    for (int d = 0; d < D; ++d) {
+      const double dx = x[d][i] - s.x_ref[d][i];
+      d2 += dx * dx;
+    }
+    moved |= !(d2 <= limit);
+  }
+  return moved;
 }
 
 /// Plain-mode particle–particle contacts from the pair list, in list order.
@@ -96,9 +112,13 @@ void plane_forces(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w
 /// pattern a branch predictor can learn; so the list is screened in chunks
 /// without branches (indices of touching pairs compacted into a stack buffer),
 /// then only the touching pairs are evaluated.
+///
+/// Pairs [begin, end) of the list. A contribution to a particle j >= split
+/// goes to cross[·][j − split] instead of a (part 0 of a split step, so that
+/// part 1 may write its own particles meanwhile); split = n: no cross buffer.
 template <int D, bool Damped, bool NonTensile>
 StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<D> x, ConstColumns<D> v,
-                       Columns<D> a) {
+                       Columns<D> a, std::int32_t begin, std::int32_t end, std::int32_t split, Columns<D> cross) {
   constexpr std::int32_t kChunk = 512;
   std::int32_t touching[kChunk];
   double kept_dx[D][kChunk], kept_dist2[kChunk], kept_reach[kChunk];
@@ -108,7 +128,8 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
   const std::int32_t* pj = s.pair_j.data();
   const double* pair_k = s.pair_stiffness.data();
   const double* pair_eta = s.pair_eta.data();
-  const std::int32_t count = s.pair_count;
+  // Where a contribution to particle j goes (see above).
+  auto to_j = [&](int d, std::int32_t j) -> double& { return j < split ? a[d][j] : cross[d][j - split]; };
   // One touching pair, scalar.
   auto one = [&](std::int32_t c) {
     const std::int32_t i = pi[c], j = pj[c];
@@ -137,13 +158,13 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
     const double fi = force * inv_mass[i], fj = force * inv_mass[j];
     for (int d = 0; d < D; ++d) {
       a[d][i] -= fi * normal[d];
-      a[d][j] += fj * normal[d];
+      to_j(d, j) += fj * normal[d];
     }
     return flag;
   };
   StepStatus status = StepStatus::ok;
-  for (std::int32_t c0 = 0; c0 < count; c0 += kChunk) {
-    const std::int32_t c1 = std::min(count, c0 + kChunk);
+  for (std::int32_t c0 = begin; c0 < end; c0 += kChunk) {
+    const std::int32_t c1 = std::min(end, c0 + kChunk);
     std::int32_t hits = 0;
     for (std::int32_t c = c0; c < c1; ++c) {
       const std::int32_t i = pi[c], j = pj[c];
@@ -198,11 +219,11 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
       }
       for (int d = 0; d < D; ++d) {
         a[d][ia] -= on_i[d][0];
-        a[d][ja] += on_j[d][0];
+        to_j(d, ja) += on_j[d][0];
       }
       for (int d = 0; d < D; ++d) {
         a[d][ib] -= on_i[d][1];
-        a[d][jb] += on_j[d][1];
+        to_j(d, jb) += on_j[d][1];
       }
     }
 #endif
@@ -220,20 +241,64 @@ template <int D, bool Gravity, bool Damped, bool NonTensile, bool Frozen>
 StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
                          ConstColumns<D> v, Columns<D> a) {
   const std::int32_t n = m.n;
-  for (int d = 0; d < D; ++d) {
-    const double g = Gravity ? m.gravity[d] : 0.0;
-    double* ad = a[d];
-    for (std::int32_t i = 0; i < n; ++i) ad[i] = g;
-  }
-  if constexpr (!Frozen) {
-    plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a);
-    if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
-    if (m.features.broad_phase == BroadPhase::grid) {
-      const StepStatus status = refresh_pair_list<D>(m, s, w, x);
-      if (has(status, kStepNotTaken) || has(status, StepStatus::non_finite)) return status;
+  auto gravity = [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d) {
+      const double g = Gravity ? m.gravity[d] : 0.0;
+      double* ad = a[d];
+      for (std::int32_t i = begin; i < end; ++i) ad[i] = g;
     }
-    return pair_forces<D, Damped, NonTensile>(m, s, x, v, a);
+  };
+  if constexpr (!Frozen) {
+    const bool grid = m.features.broad_phase == BroadPhase::grid;
+    const std::size_t planes = m.plane_point.size();
+    if (m.parts == 1) {
+      gravity(0, n);
+      plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
+      if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
+      if (grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
+        const StepStatus built = build_pair_list<D>(m, s, w, x);
+        if (built != StepStatus::ok) return built;
+      }
+      return pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, s.pair_count, n, a);
+    }
+    // Two parts: particles [0, split) and [split, n). Phase 1: each part's
+    // gravity, plane contacts (totals per part) and displacement check.
+    bool moved[2] = {false, false};
+    for_parts(w.parallel, 2, [&](int part) {
+      const std::int32_t begin = part == 0 ? 0 : m.split, end = part == 0 ? m.split : n;
+      gravity(begin, end);
+      plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, begin, end, w.plane_force_part.data() + part * planes);
+      if (grid && s.pairs_valid) moved[part] = moved_past_half_skin<D>(m, s, x, begin, end);
+    });
+    for (std::size_t p = 0; p < planes; ++p) w.plane_force[p] = w.plane_force_part[p] + w.plane_force_part[planes + p];
+    if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
+    if (grid && (!s.pairs_valid || moved[0] || moved[1])) {
+      const StepStatus built = build_pair_list<D>(m, s, w, x);  // rare: on one thread
+      if (built != StepStatus::ok) return built;
+    }
+    // Phase 2: the list is sorted by i, so part 0 owns the pairs with i < split
+    // (their j may lie in part 1: those contributions go to the cross buffer)
+    // and part 1 the rest (both particles in part 1).
+    const std::int32_t* first = s.pair_i.data();
+    const std::int32_t boundary =
+        static_cast<std::int32_t>(std::lower_bound(first, first + s.pair_count, m.split) - first);
+    Columns<D> cross;
+    for (int d = 0; d < D; ++d) cross[d] = w.cross[d].data();
+    StepStatus part_status[2] = {StepStatus::ok, StepStatus::ok};
+    for_parts(w.parallel, 2, [&](int part) {
+      if (part == 0) {
+        for (int d = 0; d < D; ++d) std::fill(w.cross[d].begin(), w.cross[d].end(), 0.0);
+        part_status[0] = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, boundary, m.split, cross);
+      } else {
+        part_status[1] = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, boundary, s.pair_count, n, cross);
+      }
+    });
+    // Phase 3: part 0's contributions to part 1's particles, in a fixed order.
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t j = m.split; j < n; ++j) a[d][j] += cross[d][j - m.split];
+    return part_status[0] | part_status[1];
   }
+  gravity(0, n);
   // Frozen mode (abm4_events, meant for few particles): plain loops.
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
@@ -274,9 +339,9 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   // Particle–particle contacts from the pair list.
   if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
   StepStatus status = StepStatus::ok;
-  if (m.features.broad_phase == BroadPhase::grid) {
-    status = refresh_pair_list<D>(m, s, w, x);
-    if (has(status, kStepNotTaken) || has(status, StepStatus::non_finite)) return status;
+  if (m.features.broad_phase == BroadPhase::grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
+    status = build_pair_list<D>(m, s, w, x);
+    if (status != StepStatus::ok) return status;
   }
   const std::int32_t* pi = s.pair_i.data();
   const std::int32_t* pj = s.pair_j.data();

@@ -1,0 +1,39 @@
+// A pool of two workers for the kernel's ParallelFor: the calling thread runs
+// part 0, one background thread (created once, optionally pinned to a core)
+// runs part 1. Handing over a task is two atomic stores and a wait on an
+// atomic: no allocation and no mutex per call. The background thread spins
+// briefly, then sleeps on the atomic (futex) until the next task.
+#pragma once
+#include <atomic>
+#include <thread>
+
+#include "xfdem/parallel.hpp"
+
+namespace xfdem::platform {
+
+class TwoWorkerPool {
+ public:
+  /// pin_to_core >= 0 pins the background worker to that core (and the caller
+  /// is left alone); -1 does not pin.
+  explicit TwoWorkerPool(int pin_to_core = -1);
+  ~TwoWorkerPool();
+  TwoWorkerPool(const TwoWorkerPool&) = delete;
+  TwoWorkerPool& operator=(const TwoWorkerPool&) = delete;
+
+  /// The hook to install in a kernel workspace.
+  ParallelFor parallel_for() { return {&TwoWorkerPool::dispatch, this}; }
+
+ private:
+  static void dispatch(void* host, void (*task)(void*, int), void* context, int parts);
+  void worker_loop();
+
+  void (*task_)(void*, int) = nullptr;
+  void* context_ = nullptr;
+  int parts_ = 0;
+  std::atomic<unsigned> posted_{0};    // generation of the last task handed over
+  std::atomic<unsigned> finished_{0};  // generation the worker last completed
+  std::atomic<bool> stop_{false};
+  std::thread worker_;
+};
+
+}  // namespace xfdem::platform
