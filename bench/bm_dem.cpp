@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "xfdem/dem.hpp"
+#include "xfdem/platform/worker_pool.hpp"
 
 namespace {
 
@@ -184,10 +185,14 @@ double contacts_per_particle(const DemModel<3>& model, const DemState<3>& state)
   return static_cast<double>(ends) / model.n;
 }
 
+/// The second argument, when given, is the number of workers (1 or 2); a third,
+/// when given, overrides DemDesc::split_from (0: never split, 1: always).
 void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double skin_radii) {
   const auto n = static_cast<std::int32_t>(bench.range(0));
   const Packing& pk = packing(n);
   DemDesc<3> desc = packing_desc(pk.position, pk.side, pk.top);
+  const bool two_workers = bench.range(1) == 2;
+  if (bench.range(2) >= 0) desc.split_from = static_cast<std::int32_t>(bench.range(2));
   desc.damping_ratio = 0.1;
   desc.integrator = integrator;
   desc.skin = skin_radii * kRadius;  // 0: the kernel's default, half a radius
@@ -202,6 +207,8 @@ void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double ski
   desc.dt = 0.2 * model.stable_dt;
   desc.reject_unstable_dt = true;
   require(build_dem(desc, model, state, work).ok(), "packing: build failed");
+  static xfdem::platform::TwoWorkerPool pool;
+  if (two_workers) work.parallel = pool.parallel_for();
   for (int k = 0; k < 200; ++k)
     require(!has(dem_step(model, state, work), kStepNotTaken | StepStatus::non_finite), "packing: warm-up step");
   const DemState<3> warm = state;
@@ -225,12 +232,25 @@ void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double ski
   bench.counters["rebuilds_per_step"] = steps > 0 ? static_cast<double>(rebuilds) / static_cast<double>(steps) : 0.0;
   bench.counters["dt_us"] = desc.dt * 1e6;
 }
+// Arguments: {N, workers, split_from (-1: the kernel's default)}. Wall time, so
+// that one and two workers compare.
 BENCHMARK_CAPTURE(BM_DemPacking, verlet, DemIntegrator::verlet, 0.0)
-    ->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
+    ->Args({1000, 1, -1})->Args({10000, 1, -1})->Args({100000, 1, -1})
+    ->Args({1000, 2, -1})->Args({10000, 2, -1})->Args({100000, 2, -1})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_DemPacking, abm4, DemIntegrator::abm4, 0.0)
-    ->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
+    ->Args({1000, 1, -1})->Args({10000, 1, -1})->Args({100000, 1, -1})
+    ->Args({1000, 2, -1})->Args({10000, 2, -1})->Args({100000, 2, -1})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
 // A thinner skin lists fewer non-touching pairs and rebuilds more often.
 BENCHMARK_CAPTURE(BM_DemPacking, verlet_skin_0.2r, DemIntegrator::verlet, 0.2)
-    ->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
+    ->Args({1000, 1, -1})->Args({10000, 1, -1})->Args({100000, 1, -1})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+// Where two workers start to pay: the packing unsplit on one worker against
+// split on two, from 250 to 8000 particles (DemDesc::split_from's default).
+BENCHMARK_CAPTURE(BM_DemPacking, threshold, DemIntegrator::verlet, 0.0)
+    ->ArgsProduct({{250, 500, 1000, 2000, 4000, 8000}, {1}, {0}})
+    ->ArgsProduct({{250, 500, 1000, 2000, 4000, 8000}, {2}, {1}})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -8,6 +8,7 @@
 //
 // History convention: slot `history_head` of hist_v/hist_a holds f(y_n).
 #include <cmath>
+#include <algorithm>
 #include <initializer_list>
 
 #include "dem/forces.hpp"
@@ -28,6 +29,14 @@ Columns<D> view(std::array<std::vector<double>, D>& a) {
   Columns<D> c;
   for (int d = 0; d < D; ++d) c[d] = a[d].data();
   return c;
+}
+
+/// Runs f(begin, end) over the model's particle parts (one or two), through
+/// the host's ParallelFor. Loops that touch only their own particles give the
+/// same bits however the parts are run.
+template <int D, class F>
+void over_particles(const DemModel<D>& m, const DemWorkspace<D>& w, F&& f) {
+  for_parts(w.parallel, m.parts, [&](int part) { f(part == 0 ? 0 : m.split, part == 0 ? m.split : m.n); });
 }
 
 constexpr bool stop_now(StepStatus s) { return has(s, kStepNotTaken); }
@@ -58,55 +67,62 @@ template <int D>
 StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> kernel,
                     double t0, ConstColumns<D> x0, ConstColumns<D> v0, ConstColumns<D> a0, const double* f0, double h,
                     Columns<D> x1, Columns<D> v1) {
-  const std::int32_t n = m.n;
   const double half = 0.5 * h;
   auto xs = view<D>(w.xs), vs = view<D>(w.vs), as = view<D>(w.as);
   auto sx = view<D>(w.sum_x), sv = view<D>(w.sum_v);
   auto cxs = view<D>(static_cast<const std::array<std::vector<double>, D>&>(w.xs));
   auto cvs = view<D>(static_cast<const std::array<std::vector<double>, D>&>(w.vs));
   // S1 = (v0, a0); stage 2 at y0 + S1 h/2.
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) {
-      sx[d][i] = v0[d][i];
-      sv[d][i] = a0[d][i];
-      xs[d][i] = x0[d][i] + half * v0[d][i];
-      vs[d][i] = v0[d][i] + half * a0[d][i];
-    }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) {
+        sx[d][i] = v0[d][i];
+        sv[d][i] = a0[d][i];
+        xs[d][i] = x0[d][i] + half * v0[d][i];
+        vs[d][i] = v0[d][i] + half * a0[d][i];
+      }
+  });
   std::vector<double>& ledger = w.plane_weighted;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = f0[p];
   StepStatus status = evaluate<D>(m, s, w, kernel, t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S2 = (vs, as); stage 3 at y0 + S2 h/2.
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) {
-      const double s2x = vs[d][i], s2v = as[d][i];
-      sx[d][i] += 2.0 * s2x;
-      sv[d][i] += 2.0 * s2v;
-      xs[d][i] = x0[d][i] + half * s2x;
-      vs[d][i] = v0[d][i] + half * s2v;
-    }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) {
+        const double s2x = vs[d][i], s2v = as[d][i];
+        sx[d][i] += 2.0 * s2x;
+        sv[d][i] += 2.0 * s2v;
+        xs[d][i] = x0[d][i] + half * s2x;
+        vs[d][i] = v0[d][i] + half * s2v;
+      }
+  });
   status |= evaluate<D>(m, s, w, kernel, t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S3; stage 4 at y0 + S3 h.
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) {
-      const double s3x = vs[d][i], s3v = as[d][i];
-      sx[d][i] += 2.0 * s3x;
-      sv[d][i] += 2.0 * s3v;
-      xs[d][i] = x0[d][i] + h * s3x;
-      vs[d][i] = v0[d][i] + h * s3v;
-    }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) {
+        const double s3x = vs[d][i], s3v = as[d][i];
+        sx[d][i] += 2.0 * s3x;
+        sv[d][i] += 2.0 * s3v;
+        xs[d][i] = x0[d][i] + h * s3x;
+        vs[d][i] = v0[d][i] + h * s3v;
+      }
+  });
   status |= evaluate<D>(m, s, w, kernel, t0 + h, cxs, cvs, as);
   if (stop_now(status)) return status;
   const double sixth = h / 6.0;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) {
-      x1[d][i] = x0[d][i] + sixth * (sx[d][i] + vs[d][i]);
-      v1[d][i] = v0[d][i] + sixth * (sv[d][i] + as[d][i]);
-    }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) {
+        x1[d][i] = x0[d][i] + sixth * (sx[d][i] + vs[d][i]);
+        v1[d][i] = v0[d][i] + sixth * (sv[d][i] + as[d][i]);
+      }
+  });
   return status;
 }
 
@@ -115,15 +131,17 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
 /// The planes' forces at the last evaluation (of the new state) go into the
 /// same history slot, and the step's plane impulse `impulse` into the ledger.
 template <int D>
-void commit(DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc,
+void commit(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc,
             const std::vector<double>& impulse) {
   const std::int32_t slot = (s.history_head + 1) % 4;
   for (int d = 0; d < D; ++d) {
     s.x[d].swap(w.x1[d]);
     s.v[d].swap(w.v1[d]);
     s.hist_a[slot][d].swap(acc[d]);
-    s.hist_v[slot][d] = s.v[d];  // same size: copies in place, no allocation
   }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d) std::copy(s.v[d].begin() + begin, s.v[d].begin() + end, s.hist_v[slot][d].begin() + begin);
+  });
   s.hist_plane_force[slot] = w.plane_force;
   for (std::size_t p = 0; p < impulse.size(); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
@@ -154,52 +172,56 @@ StepStatus step_rk4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   status |= evaluate<D>(m, s, w, m.accelerations, s.time + m.dt, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
                         view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.a0, w.plane_weighted);
+  commit<D>(m, s, w, w.a0, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
 
 template <int D>
 StepStatus step_verlet(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  const std::int32_t n = m.n;
   const double h = m.dt, half = 0.5 * m.dt;
   const auto& a = s.hist_a[s.history_head];
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) {
-      const double v_half = s.v[d][i] + half * a[d][i];
-      w.vs[d][i] = v_half;
-      w.x1[d][i] = s.x[d][i] + h * v_half;
-    }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) {
+        const double v_half = s.v[d][i] + half * a[d][i];
+        w.vs[d][i] = v_half;
+        w.x1[d][i] = s.x[d][i] + h * v_half;
+      }
+  });
   // The dashpot sees the half-step velocity (explicit; LIGGGHTS does the same).
   const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time + h,
                                         view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
                                         view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.a0));
   if (stop_now(status)) return status;
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) w.v1[d][i] = w.vs[d][i] + half * w.a0[d][i];
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) w.v1[d][i] = w.vs[d][i] + half * w.a0[d][i];
+  });
   weigh(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
-  commit<D>(s, w, w.a0, w.plane_weighted);
+  commit<D>(m, s, w, w.a0, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
 
 template <int D>
 StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  const std::int32_t n = m.n;
   const double h = m.dt;
   const auto& a = s.hist_a[s.history_head];
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < n; ++i) {
-      const double v_new = s.v[d][i] + h * a[d][i];
-      w.v1[d][i] = v_new;
-      w.x1[d][i] = s.x[d][i] + h * v_new;
-    }
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) {
+        const double v_new = s.v[d][i] + h * a[d][i];
+        w.v1[d][i] = v_new;
+        w.x1[d][i] = s.x[d][i] + h * v_new;
+      }
+  });
   const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time + h,
                                         view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
                                         view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
   if (stop_now(status)) return status;
   weigh(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
-  commit<D>(s, w, w.a0, w.plane_weighted);
+  commit<D>(m, s, w, w.a0, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
@@ -208,21 +230,22 @@ StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorksp
 /// `predict_kernel` evaluates at the prediction (frozen for abm4_events).
 template <int D>
 StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> predict_kernel) {
-  const std::int32_t n = m.n;
   const double c = m.dt / 24.0;
   const int f0 = s.history_head, f1 = (f0 + 3) % 4, f2 = (f0 + 2) % 4, f3 = (f0 + 1) % 4;
-  for (int d = 0; d < D; ++d) {
-    const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
-                 *v3 = s.hist_v[f3][d].data();
-    const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data(),
-                 *a3 = s.hist_a[f3][d].data();
-    const double *x = s.x[d].data(), *v = s.v[d].data();
-    double *xs = w.xs[d].data(), *vs = w.vs[d].data();
-    for (std::int32_t i = 0; i < n; ++i) {
-      xs[i] = x[i] + c * (55.0 * v0[i] - 59.0 * v1[i] + 37.0 * v2[i] - 9.0 * v3[i]);
-      vs[i] = v[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d) {
+      const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
+                   *v3 = s.hist_v[f3][d].data();
+      const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data(),
+                   *a3 = s.hist_a[f3][d].data();
+      const double *x = s.x[d].data(), *v = s.v[d].data();
+      double *xs = w.xs[d].data(), *vs = w.vs[d].data();
+      for (std::int32_t i = begin; i < end; ++i) {
+        xs[i] = x[i] + c * (55.0 * v0[i] - 59.0 * v1[i] + 37.0 * v2[i] - 9.0 * v3[i]);
+        vs[i] = v[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
+      }
     }
-  }
+  });
   StepStatus status = evaluate<D>(m, s, w, predict_kernel, s.time + m.dt,
                                   view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
                                   view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
@@ -231,17 +254,19 @@ StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, A
   weigh(w.plane_weighted, c,
         {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
          {1.0, s.hist_plane_force[f2].data()}});
-  for (int d = 0; d < D; ++d) {
-    const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
-    const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
-    const double *x = s.x[d].data(), *v = s.v[d].data();
-    const double *vs = w.vs[d].data(), *as = w.as[d].data();
-    double *x1 = w.x1[d].data(), *vn = w.v1[d].data();
-    for (std::int32_t i = 0; i < n; ++i) {
-      x1[i] = x[i] + c * (9.0 * vs[i] + 19.0 * v0[i] - 5.0 * v1[i] + v2[i]);
-      vn[i] = v[i] + c * (9.0 * as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
+  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d) {
+      const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
+      const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
+      const double *x = s.x[d].data(), *v = s.v[d].data();
+      const double *vs = w.vs[d].data(), *as = w.as[d].data();
+      double *x1 = w.x1[d].data(), *vn = w.v1[d].data();
+      for (std::int32_t i = begin; i < end; ++i) {
+        x1[i] = x[i] + c * (9.0 * vs[i] + 19.0 * v0[i] - 5.0 * v1[i] + v2[i]);
+        vn[i] = v[i] + c * (9.0 * as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
+      }
     }
-  }
+  });
   return status;
 }
 
@@ -253,7 +278,7 @@ StepStatus step_abm4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   status |= evaluate<D>(m, s, w, m.accelerations, s.time + m.dt, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
                         view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.a0, w.plane_weighted);
+  commit<D>(m, s, w, w.a0, w.plane_weighted);
   return status;
 }
 
@@ -330,7 +355,7 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   if (!contact_set_changed<D>(m, s, t_n, x_n, v_n, t_end, x1c, v1c)) {
     status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.a0));
     if (stop_now(status)) return status;
-    commit<D>(s, w, w.a0, w.plane_weighted);
+    commit<D>(m, s, w, w.a0, w.plane_weighted);
     s.history_count = std::min(s.history_count + 1, 4);
     return status;
   }
@@ -398,7 +423,7 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   w.mode_v = {};
   status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.as));
   if (stop_now(status)) return status;
-  commit<D>(s, w, w.as, w.plane_step_impulse);
+  commit<D>(m, s, w, w.as, w.plane_step_impulse);
   s.history_count = 1;  // restart: the next three steps are RK4
   s.events_located += events;
   s.peak_events = std::max(s.peak_events, events);
@@ -406,11 +431,16 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
 }
 
 template <int D>
-bool all_finite(const DemModel<D>& m, const DemState<D>& s) {
-  double probe = 0;
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < m.n; ++i) probe += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
-  return probe == 0.0;  // 0·x is NaN exactly when x is NaN or infinite
+bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w) {
+  double probe[2] = {0, 0};
+  for_parts(w.parallel, m.parts, [&](int part) {
+    const std::int32_t begin = part == 0 ? 0 : m.split, end = part == 0 ? m.split : m.n;
+    double sum = 0;
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = begin; i < end; ++i) sum += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
+    probe[part] = sum;
+  });
+  return probe[0] + probe[1] == 0.0;  // 0·x is NaN exactly when x is NaN or infinite
 }
 
 }  // namespace
@@ -436,7 +466,7 @@ StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   }
   ++s.step;
   s.time = static_cast<double>(s.step) * m.dt;
-  if (!all_finite(m, s)) status |= StepStatus::non_finite;
+  if (!all_finite(m, s, w)) status |= StepStatus::non_finite;
   return status;
 }
 
