@@ -5,6 +5,9 @@
 
 #include "xfdem/coupled.hpp"
 #include "xfdem/platform/clock.hpp"
+#include "xfdem/platform/worker_pool.hpp"
+
+#include <optional>
 
 namespace xfdem::scene {
 namespace {
@@ -19,9 +22,10 @@ void write_value(std::ostream& out, double value) {
 template <int D>
 class DemSystem {
  public:
-  explicit DemSystem(const DemDesc<D>& desc) {
+  DemSystem(const DemDesc<D>& desc, ParallelFor parallel) {
     const BuildResult built = build_dem(desc, model_, state_, workspace_);
     if (!built.ok()) throw SceneError(std::string("scene key 'dem.") + built.message);
+    workspace_.parallel = parallel;
   }
   StepStatus step() { return dem_step(model_, state_, workspace_); }
   double probe(const Probe& p) const {
@@ -161,8 +165,8 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
 }
 
 template <int D>
-RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv) {
-  DemSystem<D> system(desc);
+RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv, ParallelFor parallel) {
+  DemSystem<D> system(desc, parallel);
   return run_system(scene, system, csv);
 }
 
@@ -170,13 +174,19 @@ RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv
 
 RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads < 1 || threads > 2) throw SceneError("--threads: must be 1 or 2");
+  // Two workers run the parts a large model splits its work into; the results
+  // do not depend on it (docs/determinism.md). Scenes too small to be split
+  // (and the coupled cases) run on one worker either way.
+  std::optional<platform::TwoWorkerPool> pool;
+  if (threads == 2) pool.emplace();
+  const ParallelFor parallel = pool ? pool->parallel_for() : ParallelFor{};
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     CoupledSystem system(scene, std::get<DemDesc<1>>(scene.dem), *scene.bar);
     return run_system(scene, system, csv);
   }
-  if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv);
-  if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv);
-  if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv);
+  if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel);
+  if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel);
+  if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv, parallel);
   if (scene.bar) {
     BarSystem system(*scene.bar);
     return run_system(scene, system, csv);
