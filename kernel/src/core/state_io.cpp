@@ -150,6 +150,9 @@ std::uint64_t dem_fingerprint(const DemModel<D>& m) noexcept {
   h = mix_u64(h, static_cast<std::uint64_t>(m.capacities.max_grid_cells));
   h = mix_u64(h, static_cast<std::uint64_t>(m.capacities.max_events_per_step));
   h = mix_u64(h, static_cast<std::uint64_t>(m.features.broad_phase));
+  // The split into parts fixes the order of the sums across the parts.
+  h = mix_u64(h, static_cast<std::uint64_t>(m.parts));
+  h = mix_u64(h, static_cast<std::uint64_t>(m.split));
   return h;
 }
 
