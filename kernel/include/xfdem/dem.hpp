@@ -212,9 +212,24 @@ struct DemState {
   void for_each_array(Visitor&& visit);
 };
 
-/// Scratch for one step; no content survives between steps.
+/// Time spent per stage, accumulated over steps while the host has installed
+/// a clock (DemWorkspace::clock_ns); the kernel reads no clock of its own.
+struct DemProfile {
+  std::int64_t steps = 0;
+  std::int64_t step_ns = 0;         ///< whole steps
+  std::int64_t broad_phase_ns = 0;  ///< pair-list builds (grid and counting sort)
+  std::int64_t contacts_ns = 0;     ///< force evaluations, without the broad phase
+  /// The rest of the steps (the integrator's own loops): step − contacts − broad phase.
+  [[nodiscard]] std::int64_t integration_ns() const { return step_ns - contacts_ns - broad_phase_ns; }
+};
+
+/// Scratch for one step; no content survives between steps (but the profile,
+/// which the host reads and resets).
 template <int D>
 struct DemWorkspace {
+  /// Host clock in nanoseconds for the per-stage profile; nullptr: no timing.
+  std::int64_t (*clock_ns)() = nullptr;
+  DemProfile profile;
   std::array<std::vector<double>, D> xs, vs, as;  ///< stage state and its acceleration
   std::array<std::vector<double>, D> sum_x, sum_v;  ///< RK4 accumulators
   std::array<std::vector<double>, D> x0, v0;  ///< start of the current (sub)interval

@@ -17,7 +17,19 @@
 namespace xfdem::dem_detail {
 
 template <int D>
+StepStatus build_pair_list_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
+
+template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
+  if (w.clock_ns == nullptr) return build_pair_list_untimed<D>(m, s, w, x);
+  const std::int64_t start = w.clock_ns();
+  const StepStatus status = build_pair_list_untimed<D>(m, s, w, x);
+  w.profile.broad_phase_ns += w.clock_ns() - start;
+  return status;
+}
+
+template <int D>
+StepStatus build_pair_list_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   const std::int32_t n = m.n;
   s.pairs_valid = 0;
   s.pair_count = 0;

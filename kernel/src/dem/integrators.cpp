@@ -46,7 +46,12 @@ template <int D>
 StepStatus evaluate(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> kernel, double t,
                     ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) {
   w.eval_time = t;
-  return kernel(m, s, w, x, v, a);
+  if (w.clock_ns == nullptr) return kernel(m, s, w, x, v, a);
+  const std::int64_t start = w.clock_ns();
+  const std::int64_t broad_before = w.profile.broad_phase_ns;
+  const StepStatus status = kernel(m, s, w, x, v, a);
+  w.profile.contacts_ns += w.clock_ns() - start - (w.profile.broad_phase_ns - broad_before);
+  return status;
 }
 
 /// out = c · Σ_k weight_k · force_k over the planes (the impulse ledger).
@@ -446,7 +451,20 @@ bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D
 }  // namespace
 
 template <int D>
+StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w);
+
+template <int D>
 StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  if (w.clock_ns == nullptr) return dem_step_untimed<D>(m, s, w);
+  const std::int64_t start = w.clock_ns();
+  const StepStatus status = dem_step_untimed<D>(m, s, w);
+  w.profile.step_ns += w.clock_ns() - start;
+  ++w.profile.steps;
+  return status;
+}
+
+template <int D>
+StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   if (m.accelerations == nullptr) return StepStatus::not_built;
   StepStatus status = ensure_current_acceleration(m, s, w);
   if (stop_now(status)) return status;
