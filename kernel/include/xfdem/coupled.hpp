@@ -87,7 +87,21 @@ struct CoupledState {
   double time = 0;
 };
 
+/// Time per stage of coupled steps while the host has installed a clock.
+struct CoupledProfile {
+  std::int64_t steps = 0, passes = 0;
+  std::int64_t step_ns = 0;       ///< whole coupled steps
+  std::int64_t continuum_ns = 0;  ///< the bar: acceleration re-evaluation and Newmark solve, all passes
+  std::int64_t particles_ns = 0;  ///< the particle substeps, all passes (their own stages: dem.profile)
+  /// The exchange itself: saving and restoring the window's start, the fixed point.
+  [[nodiscard]] std::int64_t coupling_ns() const { return step_ns - continuum_ns - particles_ns; }
+};
+
 struct CoupledWorkspace {
+  /// Host clock in nanoseconds; nullptr: no timing. Also times the particles'
+  /// stages (copied into dem.clock_ns at each step).
+  std::int64_t (*clock_ns)() = nullptr;
+  CoupledProfile profile;
   DemWorkspace<1> dem;
   BarWorkspace bar;
   DemState<1> dem_start;  ///< the particles at t_n, restored for every pass

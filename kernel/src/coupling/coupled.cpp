@@ -62,12 +62,15 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
     s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
     s.dem = w.dem_start;
   }
+  const auto now = [&w] { return w.clock_ns ? w.clock_ns() : 0; };
+  const std::int64_t t0 = now();
   const double u_start = bar_tip_displacement(m.bar, s.bar);
   const BarInput input{force};
   StepStatus status = bar_initial_acceleration(m.bar, s.bar, w.bar, input);
   if (has(status, kStepNotTaken)) return status;
   status |= bar_step(m.bar, s.bar, w.bar, input);
   if (has(status, kStepNotTaken)) return status;
+  const std::int64_t t1 = now();
   const double u_end = bar_tip_displacement(m.bar, s.bar);
   dem_drive_plane(m.dem, s.dem, m.top_plane, u_start, (u_end - u_start) / m.dt);
   s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)] = 0.0;
@@ -75,13 +78,30 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
     status |= dem_step(m.dem, s.dem, w.dem);
     if (has(status, kStepNotTaken)) return status;
   }
+  if (w.clock_ns) {
+    w.profile.continuum_ns += t1 - t0;
+    w.profile.particles_ns += now() - t1;
+  }
   impulse = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];
   return status;
 }
 
 }  // namespace
 
+StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w);
+
 StepStatus coupled_step(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
+  w.dem.clock_ns = w.clock_ns;
+  if (w.clock_ns == nullptr) return coupled_step_untimed(m, s, w);
+  const std::int64_t start = w.clock_ns();
+  const StepStatus status = coupled_step_untimed(m, s, w);
+  w.profile.step_ns += w.clock_ns() - start;
+  ++w.profile.steps;
+  w.profile.passes += s.last_passes;
+  return status;
+}
+
+StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
   if (!m.bar.built || m.dem.accelerations == nullptr) return StepStatus::not_built;
   w.dem_start = s.dem;
   w.bar_start = s.bar;
