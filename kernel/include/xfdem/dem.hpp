@@ -106,6 +106,9 @@ struct DemDesc {
   /// 0: never split. Default from docs/benchmarks.md (where two workers pay).
   std::int32_t split_from = 2048;
   DemCapacities capacities;
+  /// Give every particle an external force input (DemState::external_force,
+  /// N, set by the host between steps, held over a step). Off: no such term.
+  bool external_forces = false;
   /// Refuse to build when dt exceeds the integrator's stable step for the
   /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
   bool reject_unstable_dt = true;
@@ -118,6 +121,7 @@ struct DemFeatures {
   bool damped = false;
   bool nontensile = false;
   bool planes = false;
+  bool external_forces = false;
   BroadPhase broad_phase = BroadPhase::none;
 };
 
@@ -175,6 +179,11 @@ struct DemState {
   double time = 0;        ///< s
   std::int64_t step = 0;  ///< steps taken
   std::array<std::vector<double>, D> x, v;  ///< positions (m), velocities (m/s)
+  /// External force on each particle (N), an input the host sets between steps
+  /// and the kernel holds constant over a step; empty unless
+  /// DemDesc::external_forces. A change felt by a multistep history: call
+  /// dem_inputs_changed() after setting it.
+  std::array<std::vector<double>, D> external_force;
   /// Multistep history, a ring of 4 slots: hist_v/hist_a[slot][axis][particle].
   /// Slot `history_head` holds f(y_n) = (v_n, a_n); older slots follow.
   /// Verlet, symplectic Euler and RK4 use slot head for the last acceleration.
@@ -275,6 +284,12 @@ StepStatus dem_step(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D
 template <int D>
 void dem_drive_plane(const DemModel<D>& model, DemState<D>& state, std::int32_t plane, double offset, double speed);
 
+/// Tells the stepper that inputs it holds over a step (external forces) were
+/// changed: the stored acceleration is re-evaluated at the next step and a
+/// multistep history restarts. Allocation-free.
+template <int D>
+void dem_inputs_changed(DemState<D>& state);
+
 /// Stable step factor y = ω h of an integrator for one linear contact with
 /// damping ratio ζ: the largest ω h at which one undamped contact period
 /// (2π/(ω h) steps) amplifies the free response by at most 1 %. See docs/dem.md.
@@ -324,6 +339,7 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   visit("step", &step, 1);
   for (int d = 0; d < D; ++d) visit("x", x[d].data(), x[d].size());
   for (int d = 0; d < D; ++d) visit("v", v[d].data(), v[d].size());
+  for (int d = 0; d < D; ++d) visit("external_force", external_force[d].data(), external_force[d].size());
   for (int s = 0; s < 4; ++s)
     for (int d = 0; d < D; ++d) {
       visit("hist_v", hist_v[s][d].data(), hist_v[s][d].size());

@@ -141,6 +141,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   m.features.damped = desc.damping_ratio > 0;
   m.features.nontensile = desc.law == ContactLaw::linear_nontensile;
   m.features.planes = !desc.planes.empty();
+  m.features.external_forces = desc.external_forces;
   if (n < 2)
     m.features.broad_phase = BroadPhase::none;
   else if (n <= std::max<std::int32_t>(desc.all_pairs_up_to, 0))
@@ -226,6 +227,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     size_columns<D>(s.hist_a[k], un);
   }
   size_columns<D>(s.x_ref, un);
+  if (desc.external_forces) size_columns<D>(s.external_force, un);
   for (std::size_t i = 0; i < un; ++i)
     for (int d = 0; d < D; ++d) {
       s.x[d][i] = desc.particles[i].position[d];

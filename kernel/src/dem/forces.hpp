@@ -246,6 +246,10 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
       const double g = Gravity ? m.gravity[d] : 0.0;
       double* ad = a[d];
       for (std::int32_t i = begin; i < end; ++i) ad[i] = g;
+      if (m.features.external_forces) {
+        const double* f = s.external_force[d].data();
+        for (std::int32_t i = begin; i < end; ++i) ad[i] += f[i] * m.inv_mass[i];
+      }
     }
   };
   if constexpr (!Frozen) {

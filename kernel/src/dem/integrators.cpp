@@ -500,6 +500,14 @@ void dem_drive_plane(const DemModel<D>& m, DemState<D>& s, std::int32_t p, doubl
   if (touching && changed) s.history_count = 0;
 }
 
+template <int D>
+void dem_inputs_changed(DemState<D>& s) {
+  s.history_count = 0;
+}
+template void dem_inputs_changed<1>(DemState<1>&);
+template void dem_inputs_changed<2>(DemState<2>&);
+template void dem_inputs_changed<3>(DemState<3>&);
+
 template void dem_drive_plane<1>(const DemModel<1>&, DemState<1>&, std::int32_t, double, double);
 template void dem_drive_plane<2>(const DemModel<2>&, DemState<2>&, std::int32_t, double, double);
 template void dem_drive_plane<3>(const DemModel<3>&, DemState<3>&, std::int32_t, double, double);
