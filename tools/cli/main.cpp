@@ -97,6 +97,7 @@ int run(int argc, char** argv) {
   std::fprintf(stderr, "xfdem: %s: %lld steps, wall %.3f s, mean %.3f us/step, worst %.3f us/step\n",
                scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
                summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);
+  std::fprintf(stderr, "xfdem: stages: %s\n", summary.stages.c_str());
   return 0;
 }
 

@@ -14,6 +14,8 @@ struct RunSummary {
   double wall_seconds = 0;
   double mean_step_seconds = 0;
   double worst_step_seconds = 0;
+  /// Per-stage time shares and peak use of every capacity, one line.
+  std::string stages;
 };
 
 /// Builds the scene's models, steps to time.end, writes the header and one row
