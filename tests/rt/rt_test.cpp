@@ -1,0 +1,188 @@
+// The real-time harness (xfdem_rt) end to end: its report has every field, the
+// capacities it reports are the state's, the loop allocates nothing, bad flags
+// exit 2 with the flag named, a step status exits 3. No timing is asserted.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string out, err;
+  std::map<std::string, std::string> fields;  ///< "key: value" lines of stdout
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+fs::path scratch() {
+  fs::path dir = fs::temp_directory_path() / ("xfdem_rt_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// xfdem_rt is built next to the xfdem command line (tools/).
+std::string harness() { return (fs::path(XFDEM_CLI).parent_path() / "xfdem_rt").string(); }
+
+Result run(const std::string& args) {
+  const fs::path dir = scratch();
+  const std::string cmd =
+      harness() + " " + args + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  Result r{WEXITSTATUS(status), slurp(dir / "out.txt"), slurp(dir / "err.txt"), {}};
+  std::istringstream lines(r.out);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const auto colon = line.find(": ");
+    if (colon != std::string::npos) r.fields[line.substr(0, colon)] = line.substr(colon + 2);
+  }
+  return r;
+}
+
+std::string scene(const char* name) { return std::string(XFDEM_SOURCE_DIR) + "/scenes/" + name; }
+
+long long integer(const Result& r, const std::string& key) {
+  const auto it = r.fields.find(key);
+  EXPECT_NE(it, r.fields.end()) << "missing field " << key << "\n" << r.out;
+  if (it == r.fields.end()) return -1;
+  char* end = nullptr;
+  const long long value = std::strtoll(it->second.c_str(), &end, 10);
+  EXPECT_EQ(*end, '\0') << key << ": " << it->second;
+  return value;
+}
+
+/// "P of C" -> {P, C}
+std::pair<long long, long long> capacity(const Result& r, const std::string& name) {
+  const auto it = r.fields.find("capacity_" + name);
+  EXPECT_NE(it, r.fields.end()) << "missing capacity " << name << "\n" << r.out;
+  if (it == r.fields.end()) return {-1, -1};
+  long long peak = -1, cap = -1;
+  EXPECT_EQ(std::sscanf(it->second.c_str(), "%lld of %lld", &peak, &cap), 2) << it->second;
+  return {peak, cap};
+}
+
+void expect_step_statistics(const Result& r, long long steps) {
+  EXPECT_EQ(integer(r, "steps"), steps);
+  const long long median = integer(r, "step_median_ns"), p99 = integer(r, "step_p99_ns"),
+                  p999 = integer(r, "step_p99.9_ns"), max = integer(r, "step_max_ns");
+  EXPECT_GE(median, 0);
+  EXPECT_LE(median, p99);
+  EXPECT_LE(p99, p999);
+  EXPECT_LE(p999, max);
+  EXPECT_GE(integer(r, "clock_read_ns"), 0);
+  EXPECT_EQ(integer(r, "allocations_in_loop"), 0);
+  EXPECT_EQ(r.fields.at("status"), "ok");
+}
+
+TEST(RealTimeHarness, V1AsFastAsPossibleReportsEveryField) {
+  Result r = run(scene("v1_k1e4.json") + " --steps 2000");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.fields["scene"], "v1_k1e4");
+  EXPECT_EQ(r.fields["pacing"], "as-fast-as-possible");
+  EXPECT_EQ(integer(r, "period_ns"), 0);
+  EXPECT_EQ(r.fields["deadline_misses"], "n/a (no period)");
+  EXPECT_EQ(r.fields.count("wakeup_late_max_ns"), 0u);
+  EXPECT_EQ(r.fields["sim_time_s"], "0.2");
+  expect_step_statistics(r, 2000);
+  // One particle: no broad phase, no pairs (docs/dem.md).
+  EXPECT_NE(r.fields["system"].find("broad phase none"), std::string::npos) << r.fields["system"];
+  EXPECT_EQ(capacity(r, "pairs").first, 0);
+  EXPECT_EQ(capacity(r, "neighbors").first, 0);
+  EXPECT_EQ(capacity(r, "grid_cells").first, 0);
+  EXPECT_EQ(capacity(r, "events").first, 0);
+  EXPECT_EQ(capacity(r, "events").second, 16);
+  EXPECT_EQ(r.fields.count("capacity_coupled_passes"), 0u);
+}
+
+TEST(RealTimeHarness, Case2AtOneKilohertzReportsMissesAndCoupledPasses) {
+  // 1000 steps at 1 kHz: 1 s of wall time; the particles are still falling.
+  Result r = run(scene("case2_xfem.json") + " --rate 1000 --steps 1000");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.fields["scene"], "case2_xfem");
+  EXPECT_EQ(r.fields["pacing"], "rate 1000 Hz");
+  EXPECT_EQ(integer(r, "period_ns"), 1'000'000);
+  expect_step_statistics(r, 1000);
+  const long long misses = integer(r, "deadline_misses");
+  EXPECT_EQ(misses, integer(r, "misses_compute_over_period") + integer(r, "misses_late_wakeup"));
+  EXPECT_GE(misses, 0);
+  EXPECT_LE(integer(r, "wakeup_late_median_ns"), integer(r, "wakeup_late_p99_ns"));
+  EXPECT_LE(integer(r, "wakeup_late_p99_ns"), integer(r, "wakeup_late_max_ns"));
+  // Two particles: the all_pairs list holds their one pair.
+  EXPECT_EQ(capacity(r, "pairs"), std::make_pair(1LL, 1LL));
+  const auto passes = capacity(r, "coupled_passes");
+  EXPECT_GE(passes.first, 1);
+  EXPECT_LE(passes.first, passes.second);
+  EXPECT_EQ(passes.second, 12);
+}
+
+TEST(RealTimeHarness, BudgetTwoWorkersAndPinningRun) {
+  Result budget = run(scene("case2_xfem.json") + " --budget-us 250 --steps 400 --threads 2");
+  ASSERT_EQ(budget.exit_code, 0) << budget.err;
+  EXPECT_EQ(integer(budget, "period_ns"), 250'000);
+  EXPECT_EQ(integer(budget, "threads"), 2);
+  expect_step_statistics(budget, 400);
+
+  Result pinned = run(scene("v1_k1e4.json") + " --steps 500 --pin");
+  ASSERT_EQ(pinned.exit_code, 0) << pinned.err;
+  EXPECT_EQ(pinned.fields["pinned"].rfind("loop on cpu ", 0), 0u) << pinned.fields["pinned"];
+}
+
+TEST(RealTimeHarness, OverridesApplyAndAStepStatusExitsThree) {
+  Result ok = run(scene("v1_k1e4.json") + " --steps 100 --set dem.contact.damping_ratio=0");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  // An overflowing velocity makes the first step non-finite.
+  Result bad = run(scene("v1_k1e4.json") + " --steps 100 --set 'dem.particles.0.velocity=[1e308]'");
+  EXPECT_EQ(bad.exit_code, 3) << bad.err;
+  EXPECT_EQ(bad.fields["status"], "non_finite");
+  EXPECT_EQ(integer(bad, "steps"), 1);
+  EXPECT_NE(bad.err.find("step 1"), std::string::npos) << bad.err;
+}
+
+struct BadFlags {
+  const char* args;
+  const char* named;  ///< text the error must contain
+};
+
+class RealTimeHarnessRejects : public ::testing::TestWithParam<BadFlags> {};
+
+TEST_P(RealTimeHarnessRejects, WithExitTwoAndTheFlagNamed) {
+  std::string args = GetParam().args;
+  const std::string with_scene = args.find("SCENE") == std::string::npos
+                                     ? args
+                                     : args.replace(args.find("SCENE"), 5, scene("v1_k1e4.json"));
+  Result r = run(with_scene);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(GetParam().named), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Flags, RealTimeHarnessRejects,
+    ::testing::Values(BadFlags{"", "no scene file given"}, BadFlags{"SCENE --rate 0", "--rate"},
+                      BadFlags{"SCENE --rate -5", "--rate"}, BadFlags{"SCENE --rate fast", "--rate"},
+                      BadFlags{"SCENE --rate", "--rate: missing value"},
+                      BadFlags{"SCENE --budget-us 0", "--budget-us"},
+                      BadFlags{"SCENE --rate 1000 --budget-us 500", "not both"},
+                      BadFlags{"SCENE --steps 0", "--steps"}, BadFlags{"SCENE --steps 12x", "--steps"},
+                      BadFlags{"SCENE --threads 3", "--threads"}, BadFlags{"SCENE --bogus", "unknown option '--bogus'"},
+                      BadFlags{"SCENE SCENE", "more than one scene file"},
+                      BadFlags{"/nonexistent/scene.json", "scene.json"},
+                      BadFlags{"SCENE --set dem.particles.0.mass=-1", "mass"}));
+
+}  // namespace
