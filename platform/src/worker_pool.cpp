@@ -10,12 +10,11 @@ inline void relax() {
   __builtin_ia32_pause();
 #endif
 }
-// Spins before sleeping: a step's phases follow each other within microseconds,
-// so the worker usually finds the next task while still spinning.
-constexpr int kSpins = 20000;
 }  // namespace
 
-TwoWorkerPool::TwoWorkerPool(int pin_to_core) : worker_([this] { worker_loop(); }) {
+// Spinning before sleeping: a step's phases follow each other within
+// microseconds, so a waiting thread usually sees the next task while spinning.
+TwoWorkerPool::TwoWorkerPool(int pin_to_core, int spins) : spins_(spins), worker_([this] { worker_loop(); }) {
   if (pin_to_core >= 0) {
     cpu_set_t set;
     CPU_ZERO(&set);
@@ -42,7 +41,7 @@ void TwoWorkerPool::dispatch(void* host, void (*task)(void*, int), void* context
   task(context, 0);
   for (int p = 2; p < parts; ++p) task(context, p);
   for (int spin = 0; pool->finished_.load(std::memory_order_acquire) != generation; ++spin) {
-    if (spin < kSpins) {
+    if (spin < pool->spins_) {
       relax();
     } else {
       pool->finished_.wait(pool->finished_.load(std::memory_order_acquire), std::memory_order_acquire);
@@ -55,7 +54,7 @@ void TwoWorkerPool::worker_loop() {
   for (;;) {
     unsigned now = posted_.load(std::memory_order_acquire);
     for (int spin = 0; now == seen; ++spin) {
-      if (spin < kSpins) {
+      if (spin < spins_) {
         relax();
       } else {
         posted_.wait(seen, std::memory_order_acquire);

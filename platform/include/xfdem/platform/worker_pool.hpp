@@ -14,8 +14,11 @@ namespace xfdem::platform {
 class TwoWorkerPool {
  public:
   /// pin_to_core >= 0 pins the background worker to that core (and the caller
-  /// is left alone); -1 does not pin.
-  explicit TwoWorkerPool(int pin_to_core = -1);
+  /// is left alone); -1 does not pin. `spins`: how long a waiting thread spins
+  /// (pause instructions) before it sleeps on the atomic. Long spins suit
+  /// dedicated cores (a real-time loop); short ones a shared machine, where a
+  /// spinning thread would take the core from the one it waits for.
+  explicit TwoWorkerPool(int pin_to_core = -1, int spins = 2000);
   ~TwoWorkerPool();
   TwoWorkerPool(const TwoWorkerPool&) = delete;
   TwoWorkerPool& operator=(const TwoWorkerPool&) = delete;
@@ -33,6 +36,7 @@ class TwoWorkerPool {
   std::atomic<unsigned> posted_{0};    // generation of the last task handed over
   std::atomic<unsigned> finished_{0};  // generation the worker last completed
   std::atomic<bool> stop_{false};
+  int spins_;
   std::thread worker_;
 };
 
