@@ -62,7 +62,7 @@ constexpr const char* kUsage =
     "  --steps N       steps to run (default: the scene's time.end / time.dt)\n"
     "  --threads 1|2   workers for models split into two parts (default 1)\n"
     "  --pin           pin the loop to the first allowed CPU (and the second\n"
-    "                  worker to the next one)\n";
+    "                  worker to the next one, spinning while it waits)\n";
 
 struct Options {
   std::string scene_path;
@@ -434,8 +434,17 @@ int run(const Options& o) {
       pinned += ", worker on cpu " + std::to_string(second);
     }
   }
+  // Pinned, the two workers own their cores: the waiting one may spin long
+  // (20000 pauses) rather than sleep; unpinned, the pool's short default
+  // leaves a shared core to the thread it waits for.
   std::optional<xfdem::platform::TwoWorkerPool> pool;
-  if (o.threads == 2) pool.emplace(worker_cpu);
+  if (o.threads == 2) {
+    if (o.pin) {
+      pool.emplace(worker_cpu, 20000);
+    } else {
+      pool.emplace(-1);
+    }
+  }
   const xfdem::ParallelFor parallel = pool ? pool->parallel_for() : xfdem::ParallelFor{};
 
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
