@@ -147,7 +147,7 @@ void commit(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::array
   over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) std::copy(s.v[d].begin() + begin, s.v[d].begin() + end, s.hist_v[slot][d].begin() + begin);
   });
-  s.hist_plane_force[slot] = w.plane_force;
+  s.hist_plane_force[slot].swap(w.plane_force);  // w.plane_force is rewritten by every evaluation
   for (std::size_t p = 0; p < impulse.size(); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
 }
