@@ -40,11 +40,16 @@ void TwoWorkerPool::dispatch(void* host, void (*task)(void*, int), void* context
   // The caller takes part 0 and every part past 1, in order.
   task(context, 0);
   for (int p = 2; p < parts; ++p) task(context, p);
-  for (int spin = 0; pool->finished_.load(std::memory_order_acquire) != generation; ++spin) {
+  for (int spin = 0;; ++spin) {
+    const unsigned done = pool->finished_.load(std::memory_order_acquire);
+    if (done == generation) break;
     if (spin < pool->spins_) {
       relax();
     } else {
-      pool->finished_.wait(pool->finished_.load(std::memory_order_acquire), std::memory_order_acquire);
+      // Sleep only while the value is still the one just seen to differ: a
+      // fresh load here could already be `generation`, and waiting on that
+      // would miss the worker's one notification.
+      pool->finished_.wait(done, std::memory_order_acquire);
     }
   }
 }
