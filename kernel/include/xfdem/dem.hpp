@@ -104,7 +104,7 @@ struct DemDesc {
   /// fixed parts (particles [0, n/2) and [n/2, n)) that a host's ParallelFor
   /// may run on two workers; the bits do not depend on the worker count.
   /// 0: never split. Default from docs/benchmarks.md (where two workers pay).
-  std::int32_t split_from = 2048;
+  std::int32_t split_from = 1000;
   DemCapacities capacities;
   /// Give every particle an external force input (DemState::external_force,
   /// N, set by the host between steps, held over a step). Off: no such term.
