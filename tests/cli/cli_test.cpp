@@ -2,6 +2,8 @@
 // rejected with the key named, a non-zero exit and no output file.
 #include <gtest/gtest.h>
 
+#include "support/command.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,33 +17,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string out, err;
-};
+using xfdem::testing::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path scratch() { return xfdem::testing::scratch("cli_test"); }
 
-fs::path scratch() {
-  fs::path dir = fs::temp_directory_path() / ("xfdem_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+using Result = xfdem::testing::CommandResult;
 
-Result run(const std::string& args) {
-  const fs::path dir = scratch();
-  const std::string cmd = std::string(XFDEM_CLI) + " " + args + " >" + (dir / "out.txt").string() + " 2>" +
-                          (dir / "err.txt").string();
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), slurp(dir / "out.txt"), slurp(dir / "err.txt")};
-}
+Result run(const std::string& args) { return xfdem::testing::run_command(XFDEM_CLI, args); }
 
-std::string scene(const char* name) { return std::string(XFDEM_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene(const char* name) { return xfdem::testing::scene_file(name); }
 
 TEST(Cli, WritesTheHeaderAndOneRowPerOutputInterval) {
   const fs::path csv = scratch() / "v1.csv";

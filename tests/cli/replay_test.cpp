@@ -3,6 +3,8 @@
 // override perturbs the run.
 #include <gtest/gtest.h>
 
+#include "support/command.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,33 +18,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string out, err;
-};
+fs::path scratch() { return xfdem::testing::scratch("replay_test"); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using Result = xfdem::testing::CommandResult;
 
-fs::path scratch() {
-  fs::path dir = fs::temp_directory_path() / ("xfdem_replay_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+Result xfdem(const std::string& args) { return xfdem::testing::run_command(XFDEM_CLI, args); }
 
-Result xfdem(const std::string& args) {
-  const fs::path dir = scratch();
-  const std::string cmd = std::string(XFDEM_CLI) + " " + args + " >" + (dir / "out.txt").string() + " 2>" +
-                          (dir / "err.txt").string();
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), slurp(dir / "out.txt"), slurp(dir / "err.txt")};
-}
-
-std::string scene(const char* name) { return std::string(XFDEM_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene(const char* name) { return xfdem::testing::scene_file(name); }
 
 TEST(Replay, RecordThenCheckIsIdentical) {
   const fs::path hashes = scratch() / "case2.hashes";

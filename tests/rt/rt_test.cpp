@@ -3,6 +3,8 @@
 // exit 2 with the flag named, a step status exits 3. No timing is asserted.
 #include <gtest/gtest.h>
 
+#include "support/command.hpp"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -24,28 +26,12 @@ struct Result {
   std::map<std::string, std::string> fields;  ///< "key: value" lines of stdout
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-fs::path scratch() {
-  fs::path dir = fs::temp_directory_path() / ("xfdem_rt_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
-
 /// xfdem_rt is built next to the xfdem command line (tools/).
 std::string harness() { return (fs::path(XFDEM_CLI).parent_path() / "xfdem_rt").string(); }
 
 Result run(const std::string& args) {
-  const fs::path dir = scratch();
-  const std::string cmd =
-      harness() + " " + args + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-  const int status = std::system(cmd.c_str());
-  Result r{WEXITSTATUS(status), slurp(dir / "out.txt"), slurp(dir / "err.txt"), {}};
+  const xfdem::testing::CommandResult c = xfdem::testing::run_command(harness(), args);
+  Result r{c.exit_code, c.out, c.err, {}};
   std::istringstream lines(r.out);
   std::string line;
   while (std::getline(lines, line)) {
@@ -55,7 +41,7 @@ Result run(const std::string& args) {
   return r;
 }
 
-std::string scene(const char* name) { return std::string(XFDEM_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene(const char* name) { return xfdem::testing::scene_file(name); }
 
 long long integer(const Result& r, const std::string& key) {
   const auto it = r.fields.find(key);
