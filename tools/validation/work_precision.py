@@ -126,6 +126,8 @@ def plot(scene, title, rows, out_dir, extra=None):
             ax.axvline(r["error"], color="gray", ls=":", lw=1)
             ax.text(r["error"], ax.get_ylim()[1], " reference's own error (bound)", rotation=90, va="top",
                     fontsize=7, color="gray")
+    if scene.startswith("v1"):
+        ax.axvline(TARGET, color="r", ls=":", lw=1)
     if extra:
         extra(ax)
     ax.set_xscale("log")
