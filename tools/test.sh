@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test command: installs the dependencies, then builds and runs the test
-# suite twice, in Release and under AddressSanitizer + UBSan (Debug).
+# suite twice, in Release and under AddressSanitizer + UBSan (Debug), and
+# ends with a short fuzzing run (tools/fuzz.sh 20: 20 s per fuzzer, clang).
 # Build output goes to build/<preset>-build.log and is shown only on failure;
 # ctest's summary lines are printed, its full output on failure.
 # Exits non-zero on any failure.
@@ -44,10 +45,17 @@ run_preset() {
 status=0
 run_preset release || status=1
 run_preset debug-asan || status=1
+fuzz_start=$SECONDS
+if bash tools/fuzz.sh 20 </dev/null; then
+  echo "test: [fuzz] no finding in $((SECONDS - fuzz_start)) s (build + 2 x 20 s)"
+else
+  echo "test: [fuzz] FAILED after $((SECONDS - fuzz_start)) s" >&2
+  status=1
+fi
 if [[ $status -ne 0 ]]; then
   echo "test: FAILED after $SECONDS s" >&2
 else
-  echo "test: release and debug-asan passed in $SECONDS s"
+  echo "test: release, debug-asan and fuzz passed in $SECONDS s"
 fi
 echo "test: $passed passed, $failed failed"
 exit $status

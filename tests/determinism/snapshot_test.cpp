@@ -257,6 +257,85 @@ TEST(Refusal, AnotherFormatVersionOrPrecision) {
   expect_refused(sc, swapped, SnapshotStatus::foreign_byte_order, "byte order");
 }
 
+// Found by fuzz/snapshot_restore_fuzz: a payload with matching checksums but a
+// history slot, pair count, pair index or 0/1 flag out of range was restored,
+// and the next step indexed out of bounds (history_head = 245760 in a V1
+// snapshot). Such values are now refused as a corrupted payload.
+
+/// Byte offset in a snapshot of the first field named `part.name` ("" part: the
+/// state's own), from the state's visitor.
+template <class State>
+std::size_t offset_of(State& state, const std::string& part, const std::string& name) {
+  std::size_t at = kSnapshotHeaderBytes, found = 0;
+  bool done = false;
+  for_each_field(state, [&](const char* p, const char* n, auto* data, std::size_t count) {
+    if (!done && part == p && name == n) found = at, done = true;
+    at += count * sizeof(*data);
+  });
+  EXPECT_TRUE(done) << part << "." << name;
+  return found;
+}
+
+/// `bytes` with an int32 written at `at` and both checksums recomputed: a
+/// well-formed snapshot holding a value no step produces.
+Bytes with_int(Bytes bytes, std::size_t at, std::int32_t value) {
+  std::memcpy(bytes.data() + at, &value, 4);
+  const std::uint64_t payload = fnv1a(bytes.data() + kSnapshotHeaderBytes, bytes.size() - kSnapshotHeaderBytes);
+  std::memcpy(bytes.data() + 48, &payload, 8);
+  const std::uint64_t header = fnv1a(bytes.data(), 56);
+  std::memcpy(bytes.data() + 56, &header, 8);
+  return bytes;
+}
+
+TEST(Refusal, IndicesOutOfRangeUnderMatchingChecksums) {
+  {
+    const auto sc = load("v1_k1e4.json");
+    DemWorld<1> layout;
+    ASSERT_TRUE(layout.build(std::get<DemDesc<1>>(sc.dem)).ok());
+    Saved saved(sc);
+    auto refuse = [&](const char* field, std::int32_t value) {
+      expect_refused(sc, with_int(saved.bytes, offset_of(layout.state, "", field), value),
+                     SnapshotStatus::corrupted_payload, std::string("field '") + field + "'");
+    };
+    refuse("history_head", 245760);  // the fuzzer's input
+    refuse("history_head", -1);
+    refuse("history_head", 4);
+    refuse("history_count", 5);
+    refuse("pair_count", -1);
+    refuse("pair_count", static_cast<std::int32_t>(layout.state.pair_i.size()) + 1);
+    refuse("pairs_valid", 2);
+    // The values a step produces are accepted, and the world steps on.
+    scene::SceneWorld target(sc);
+    ASSERT_TRUE(target.restore(with_int(saved.bytes, offset_of(layout.state, "", "history_head"), 3)).ok());
+    EXPECT_FALSE(has(target.step(), kStepNotTaken));
+  }
+  {
+    const auto sc = load("v2_fem.json");
+    BarModel model;
+    BarState state;
+    BarWorkspace workspace;
+    ASSERT_TRUE(build_bar(*sc.bar, model, state, workspace).ok());
+    expect_refused(sc, with_int(Saved(sc).bytes, offset_of(state, "", "interface_closed"), 2),
+                   SnapshotStatus::corrupted_payload, "field 'interface_closed' holds 2");
+  }
+  {
+    const auto sc = load("case2_fem.json");
+    CoupledDesc desc;
+    desc.dem = std::get<DemDesc<1>>(sc.dem);
+    desc.bar = *sc.bar;
+    desc.dem_substeps = sc.dem_substeps;
+    CoupledWorld layout;
+    ASSERT_TRUE(layout.build(desc).ok());
+    expect_refused(sc, with_int(Saved(sc).bytes, offset_of(layout.state, "dem", "history_head"), 7),
+                   SnapshotStatus::corrupted_payload, "field 'history_head' holds 7");
+    // A pair naming a particle that does not exist (two particles), under a pair count that covers it.
+    ASSERT_GE(layout.state.dem.pair_i.size(), 1u);
+    const Bytes bytes = with_int(Saved(sc).bytes, offset_of(layout.state, "dem", "pair_count"), 1);
+    expect_refused(sc, with_int(bytes, offset_of(layout.state, "dem", "pair_j"), 2), SnapshotStatus::corrupted_payload,
+                   "field 'pair_j' holds 2");
+  }
+}
+
 TEST(Refusal, SaveIntoASmallBufferWritesNothing) {
   DemWorld<2> world;
   ASSERT_TRUE(world.build(disks(DemIntegrator::verlet)).ok());

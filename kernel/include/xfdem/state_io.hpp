@@ -159,7 +159,8 @@ enum class SnapshotStatus : std::uint8_t {
   other_state_kind,   ///< restore: a snapshot of another kind of state (bar vs particles, 2D vs 3D, …)
   other_layout,       ///< restore: the target state's fields or sizes differ (another scene or model size)
   other_model,        ///< restore: the model tags differ (another scene with the same sizes)
-  corrupted_payload,  ///< restore: the payload checksum does not match
+  corrupted_payload,  ///< restore: the payload checksum does not match, or an index or count in it is
+                      ///< out of range for the target state (history slot, pair list, a 0/1 flag)
   io_error,           ///< file helpers: the file could not be read or written
 };
 

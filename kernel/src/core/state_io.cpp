@@ -275,6 +275,66 @@ SnapshotResult save_of(const State& state, std::span<std::byte> buffer, std::uin
   return result(SnapshotStatus::ok, total, "saved %llu bytes", static_cast<ull>(total));
 }
 
+/// The payload's integer fields that the steppers use as indices and counts,
+/// checked against the target state's sizes before anything is copied: a
+/// payload whose checksum matches can still hold values no step produces (a
+/// file edited and re-checksummed, or a writer's bug), and stepping from them
+/// would index out of bounds. Returns true when every value is in range, else
+/// false with the first value out of range named in `message`.
+template <class State>
+bool payload_values_ok(const State& state, const std::byte* payload, char* message, std::size_t message_size) noexcept {
+  std::size_t particles = 0, pair_slots = 0;
+  bool seen_x = false;
+  std::int32_t pair_count = 0;
+  const std::byte* pair_i = nullptr;
+  const std::byte* pair_j = nullptr;
+  const char* bad = nullptr;
+  long long bad_value = 0;
+  const std::byte* at = payload;
+  auto i32 = [](const std::byte* p) { return get<std::int32_t>(p); };
+  walk(state, [&](const char*, const char* name, const std::byte*, std::size_t count, std::size_t size) {
+    const std::byte* here = at;
+    at += count * size;
+    if (bad != nullptr) return;
+    auto in = [&](long long value, long long lo, long long hi) {
+      if (value < lo || value > hi) bad = name, bad_value = value;
+    };
+    if (std::strcmp(name, "x") == 0 && !seen_x) {
+      particles = count;
+      seen_x = true;
+    } else if (std::strcmp(name, "history_head") == 0) {
+      in(i32(here), 0, 3);
+    } else if (std::strcmp(name, "history_count") == 0) {
+      in(i32(here), 0, 4);
+    } else if (std::strcmp(name, "pair_i") == 0) {
+      pair_i = here;
+      pair_slots = count;
+    } else if (std::strcmp(name, "pair_j") == 0) {
+      pair_j = here;
+    } else if (std::strcmp(name, "pair_count") == 0) {
+      pair_count = i32(here);
+    } else if (std::strcmp(name, "pairs_valid") == 0 || std::strcmp(name, "interface_closed") == 0) {
+      in(i32(here), 0, 1);
+    }
+  });
+  if (bad == nullptr && pair_i != nullptr) {
+    if (pair_count < 0 || static_cast<std::size_t>(pair_count) > pair_slots) {
+      bad = "pair_count", bad_value = pair_count;
+    } else {
+      for (std::int32_t k = 0; k < pair_count && bad == nullptr; ++k) {
+        const std::int32_t i = i32(pair_i + 4 * static_cast<std::size_t>(k));
+        const std::int32_t j = i32(pair_j + 4 * static_cast<std::size_t>(k));
+        if (i < 0 || static_cast<std::size_t>(i) >= particles) bad = "pair_i", bad_value = i;
+        else if (j < 0 || static_cast<std::size_t>(j) >= particles) bad = "pair_j", bad_value = j;
+      }
+    }
+  }
+  if (bad == nullptr) return true;
+  std::snprintf(message, message_size, "corrupted snapshot: field '%s' holds %lld, out of range for this state", bad,
+                bad_value);
+  return false;
+}
+
 template <class State>
 SnapshotResult restore_of(State& state, std::span<const std::byte> buffer, std::uint64_t model_tag) noexcept {
   const std::size_t have = buffer.size();
@@ -331,6 +391,9 @@ SnapshotResult restore_of(State& state, std::span<const std::byte> buffer, std::
     return result(SnapshotStatus::corrupted_payload, 0,
                   "corrupted snapshot: payload checksum %016llx, the header says %016llx",
                   static_cast<ull>(checksum), static_cast<ull>(h.checksum));
+  char message[sizeof(SnapshotResult{}.message)];
+  if (!payload_values_ok(state, in + kSnapshotHeaderBytes, message, sizeof(message)))
+    return result(SnapshotStatus::corrupted_payload, 0, "%s", message);
   // Everything checked: only now is the state written.
   const std::byte* from = in + kSnapshotHeaderBytes;
   for_each_field(state, [&](const char*, const char*, auto* data, std::size_t count) {
