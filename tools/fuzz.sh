@@ -39,7 +39,7 @@ run() {
   local name=$1 log=build/fuzz/$1.log
   echo "fuzz: [$name] ${seconds} s"
   # -timeout: one input running longer than 10 s is a hang (a finding).
-  if "$bin/${name}_fuzz" "$corpus/$name" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  if "$bin/${name}_fuzz" "$corpus/$name" -max_total_time="$seconds" -seed="${XFDEM_FUZZ_SEED:-0}" -timeout=10 -rss_limit_mb=2048 \
        -print_final_stats=1 -artifact_prefix="$findings/${name}-" </dev/null >"$log" 2>&1; then
     local execs
     execs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+).*/\1/p' "$log" | tail -n 1)

@@ -99,6 +99,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"--set output.probes.0.particle=p9", "output.probes.0.particle"},
                       BadInput{"--set dem.particles.7.mass=1", "dem.particles.7"},
                       BadInput{"--threads 3", "--threads"},
+                      // end/dt = 6e29 steps: rejected, not cast past int64 (found by the loader fuzzer)
+                      BadInput{"--set time.dt=1e-29 --set output.every=1e-29", "time.end"},
                       BadInput{"--frobnicate", "--frobnicate"}));
 
 TEST(Cli, MissingFileAndMalformedJsonAreErrors) {

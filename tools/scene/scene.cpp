@@ -3,6 +3,7 @@
 #include "scene/continuum_json.hpp"
 
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -10,11 +11,13 @@
 namespace xfdem::scene {
 namespace {
 
-/// n = a / b when a is (to round-off) an integer multiple of b, else -1.
+/// n = a / b when a is (to round-off) an integer multiple of b, else -1;
+/// INT64_MAX when the multiple is too large to count (the callers reject it).
 std::int64_t whole_multiple(double a, double b) {
   const double q = a / b;
   const double k = std::nearbyint(q);
-  if (k < 0 || std::fabs(q - k) > 1e-9 * std::max(1.0, k)) return -1;
+  if (!(k >= 0) || std::fabs(q - k) > 1e-9 * std::max(1.0, k)) return -1;
+  if (k >= 9.0e18) return std::numeric_limits<std::int64_t>::max();  // no int64 cast out of range
   return static_cast<std::int64_t>(k);
 }
 
