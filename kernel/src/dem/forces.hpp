@@ -34,6 +34,18 @@ inline double normal_force(double K, double eta, double overlap, double rate) {
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
+/// dx = x_j − x_i per axis; returns |dx|² (the one order of operations every
+/// path uses, so that they round alike).
+template <int D>
+inline double separation(ConstColumns<D> x, std::int32_t i, std::int32_t j, double (&dx)[D]) {
+  double dist2 = 0;
+  for (int d = 0; d < D; ++d) {
+    dx[d] = x[d][j] - x[d][i];
+    dist2 += dx[d] * dx[d];
+  }
+  return dist2;
+}
+
 /// Where plane p is at time t (it moves when the host drives it).
 template <int D>
 std::array<double, D> plane_point_at(const DemModel<D>& m, const DemState<D>& s, std::size_t p, double t) {
@@ -134,11 +146,7 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
   auto one = [&](std::int32_t c) {
     const std::int32_t i = pi[c], j = pj[c];
     double dx[D];
-    double dist2 = 0;
-    for (int d = 0; d < D; ++d) {
-      dx[d] = x[d][j] - x[d][i];
-      dist2 += dx[d] * dx[d];
-    }
+    const double dist2 = separation<D>(x, i, j, dx);
     const double reach = radius[i] + radius[j];
     const double dist = std::sqrt(dist2);
     double normal[D];
@@ -355,18 +363,10 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   for (std::int32_t c = 0; c < count; ++c) {
     const std::int32_t i = pi[c], j = pj[c];
     double dx[D];
-    double dist2 = 0;
-    for (int d = 0; d < D; ++d) {
-      dx[d] = x[d][j] - x[d][i];
-      dist2 += dx[d] * dx[d];
-    }
+    const double dist2 = separation<D>(x, i, j, dx);
     const double reach = radius[i] + radius[j];
-    double dx0[D], dist0 = 0;
-    for (int d = 0; d < D; ++d) {
-      dx0[d] = w.mode_x[d][j] - w.mode_x[d][i];
-      dist0 += dx0[d] * dx0[d];
-    }
-    dist0 = std::sqrt(dist0);
+    double dx0[D];
+    const double dist0 = std::sqrt(separation<D>(w.mode_x, i, j, dx0));
     double rate0 = 0;
     if (dist0 > 0)
       for (int d = 0; d < D; ++d) rate0 -= (w.mode_v[d][j] - w.mode_v[d][i]) * dx0[d] / dist0;
