@@ -98,6 +98,11 @@ int run(int argc, char** argv) {
                scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
                summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);
   std::fprintf(stderr, "xfdem: stages: %s\n", summary.stages.c_str());
+  if (summary.unstable_steps > 0)
+    std::fprintf(stderr,
+                 "xfdem: warning: %lld steps past the stable time step (unstable_time_step, allowed by "
+                 "dem.allow_unstable_dt): no energy bound holds (docs/stability.md)\n",
+                 static_cast<long long>(summary.unstable_steps));
   return 0;
 }
 

@@ -185,8 +185,9 @@ int record(const Options& o, const xfdem::scene::Scene& scene, xfdem::scene::Sce
     for (std::uint64_t h : field_hash) put_u32(out, static_cast<std::uint32_t>(h));
   };
   append();
+  const xfdem::StepStatus acknowledged = xfdem::scene::acknowledged_flags(scene);
   for (std::int64_t s = 1; s <= steps; ++s) {
-    const xfdem::StepStatus status = world.step();
+    const xfdem::StepStatus status = xfdem::without(world.step(), acknowledged);
     if (status != xfdem::StepStatus::ok) {
       char text[200];
       std::cerr << "xfdem: step " << s << " returned " << xfdem::describe(status, text, sizeof(text))

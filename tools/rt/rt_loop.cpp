@@ -326,7 +326,8 @@ struct LoopResult {
 };
 
 template <class System>
-LoopResult run_loop(System& system, std::int64_t steps, std::int64_t period, Samples& samples) {
+LoopResult run_loop(System& system, std::int64_t steps, std::int64_t period, StepStatus acknowledged,
+                    Samples& samples) {
   LoopResult r;
   const xfdem::platform::AllocationCounter allocations;
   const std::int64_t start = xfdem::platform::monotonic_ns();
@@ -334,7 +335,7 @@ LoopResult run_loop(System& system, std::int64_t steps, std::int64_t period, Sam
   for (std::int64_t k = 0; k < steps; ++k) {
     if (period > 0) wait_until(release);
     const std::int64_t t0 = xfdem::platform::monotonic_ns();
-    const StepStatus status = system.step();
+    const StepStatus status = xfdem::without(system.step(), acknowledged);  // flags the scene allowed
     const std::int64_t t1 = xfdem::platform::monotonic_ns();
     const std::int64_t compute = t1 - t0;
     samples.compute[static_cast<std::size_t>(k)] = compute;
@@ -370,7 +371,7 @@ int run_and_report(const Options& o, const xfdem::scene::Scene& scene, System& s
   capacities.reserve(8);
   const std::int64_t clock_cost = clock_read_ns();
 
-  const LoopResult r = run_loop(system, steps, o.period_ns, samples);
+  const LoopResult r = run_loop(system, steps, o.period_ns, xfdem::scene::acknowledged_flags(scene), samples);
 
   const auto n = static_cast<std::size_t>(r.steps_run);
   std::sort(samples.compute.begin(), samples.compute.begin() + static_cast<std::ptrdiff_t>(n));

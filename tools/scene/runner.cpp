@@ -174,10 +174,13 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
   RunSummary summary;
   const std::int64_t start = platform::monotonic_ns();
   std::int64_t worst = 0;
+  const StepStatus acknowledged = acknowledged_flags(scene);
   for (std::int64_t step = 1; step <= scene.steps; ++step) {
     const std::int64_t t0 = platform::monotonic_ns();
-    const StepStatus status = system.step();
+    const StepStatus raw = system.step();
     worst = std::max(worst, platform::monotonic_ns() - t0);
+    if (has(raw, StepStatus::unstable_time_step)) ++summary.unstable_steps;
+    const StepStatus status = without(raw, acknowledged);
     if (status != StepStatus::ok) {
       char text[200];
       char message[400];

@@ -16,6 +16,9 @@ struct RunSummary {
   double worst_step_seconds = 0;
   /// Per-stage time shares and peak use of every capacity, one line.
   std::string stages;
+  /// Steps past the stated stable limit (unstable_time_step), carried on past
+  /// because the scene set dem.allow_unstable_dt.
+  std::int64_t unstable_steps = 0;
 };
 
 /// Builds the scene's models, steps to time.end, writes the header and one row

@@ -272,6 +272,19 @@ Scene parse_scene(const Json& document) {
   return scene;
 }
 
+StepStatus acknowledged_flags(const Scene& scene) {
+  const bool allowed = std::visit(
+      [](const auto& dem) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(dem)>, std::monostate>) {
+          return false;
+        } else {
+          return !dem.reject_unstable_dt;
+        }
+      },
+      scene.dem);
+  return allowed ? StepStatus::unstable_time_step : StepStatus::ok;
+}
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw SceneError("cannot open scene file '" + path + "'");

@@ -56,6 +56,10 @@ struct Scene {
   std::vector<Probe> probes;
 };
 
+/// Step flags a run of this scene carries on past: unstable_time_step when the
+/// scene asked for it (dem.allow_unstable_dt), nothing otherwise.
+StepStatus acknowledged_flags(const Scene& scene);
+
 /// Applies one `--set key.path=value` override to a parsed JSON document.
 /// Array elements are addressed by index ("dem.particles.0.mass"); the value is
 /// read as JSON when it parses as JSON, otherwise as a string.

@@ -55,6 +55,10 @@ struct CoupledModel {
   /// ω_c of the stiffest particle–top contact, ω_c² = k (1/m_top + 1/m_p), with
   /// m_top the top node's lumped mass (rad/s).
   double coupling_omega = 0;
+  /// ω_c·dt past kCoupledMaxOmegaDt or ω_c·dt/n past the particle integrator's
+  /// stable step (built with reject_unstable_coupling off): every step says
+  /// StepStatus::unstable_time_step.
+  bool beyond_stable_step = false;
 };
 
 /// Passes of one window at most while looking for the fixed point; a window

@@ -167,6 +167,8 @@ struct DemModel {
   double max_contact_omega = 0;
   /// Stable step of the chosen integrator for the stiffest contact (s).
   double stable_dt = 0;
+  /// The integrator's stable ω·dt (dem_stable_step_factor at the damping ratio).
+  double stable_factor = 0;
   /// Kernels: plain (overlap decides) and frozen-mode (the contact set of the
   /// interval start decides; abm4_events only).
   AccelerationKernel<D> accelerations = nullptr;
@@ -216,6 +218,13 @@ struct DemState {
   std::int64_t list_builds = 0;
   std::int32_t peak_pairs = 0, peak_neighbors = 0, peak_grid_cells = 0, peak_events = 0;
   std::int64_t events_located = 0;
+  /// Bound on the squared highest frequency of the contact network (rad²/s²):
+  /// per particle, the sum of K (1/m_i + 1/m_j) over its contacts (see
+  /// docs/stability.md). Updated after every step from the touching contacts
+  /// (few particles) or at every pair-list build (grid: every few steps);
+  /// a step with dt²·network_omega2 past the stable factor² says
+  /// StepStatus::unstable_time_step.
+  double network_omega2 = 0;
 
   template <class Visitor>
   void for_each_array(Visitor&& visit);
@@ -263,6 +272,7 @@ struct DemWorkspace {
   std::vector<double> plane_weighted;  ///< Σ weights · force of the step being built
   std::vector<double> plane_step_impulse;  ///< sum over the pieces of an event-split step
   std::int32_t grid_cells_used = 0;
+  std::vector<double> network_row;  ///< per particle: the D × D bound matrix of network_omega2 (packed)
 };
 
 /// Validates `desc` and sizes model, state and workspace. The only call that
@@ -365,6 +375,7 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   visit("peak_grid_cells", &peak_grid_cells, 1);
   visit("peak_events", &peak_events, 1);
   visit("events_located", &events_located, 1);
+  visit("network_omega2", &network_omega2, 1);
 }
 
 }  // namespace xfdem

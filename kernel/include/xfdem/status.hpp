@@ -37,6 +37,11 @@ enum class StepStatus : std::uint32_t {
   not_built = 1u << 7,
   /// A coupled step left the region where the staggered scheme is stable.
   coupling_unstable = 1u << 8,
+  /// The model's time step is past its stated stable limit (built with
+  /// DemDesc::reject_unstable_dt or CoupledDesc::reject_unstable_coupling off):
+  /// the step was taken, but the energy bounds of docs/stability.md no longer
+  /// hold. Raised on every step of such a model.
+  unstable_time_step = 1u << 9,
 };
 
 constexpr StepStatus operator|(StepStatus a, StepStatus b) {
@@ -47,6 +52,10 @@ constexpr StepStatus operator&(StepStatus a, StepStatus b) {
   return static_cast<StepStatus>(static_cast<std::uint32_t>(a) & static_cast<std::uint32_t>(b));
 }
 constexpr bool has(StepStatus set, StepStatus flag) { return (set & flag) != StepStatus::ok; }
+/// `set` with `flags` cleared.
+constexpr StepStatus without(StepStatus set, StepStatus flags) {
+  return static_cast<StepStatus>(static_cast<std::uint32_t>(set) & ~static_cast<std::uint32_t>(flags));
+}
 /// Flags after which the state was left unchanged.
 constexpr StepStatus kStepNotTaken =
     StepStatus::pair_capacity | StepStatus::neighbor_capacity | StepStatus::grid_capacity | StepStatus::not_built;

@@ -16,6 +16,7 @@ const char* status_name(StepStatus flag) noexcept {
     case StepStatus::active_set_not_converged: return "active_set_not_converged";
     case StepStatus::not_built: return "not_built";
     case StepStatus::coupling_unstable: return "coupling_unstable";
+    case StepStatus::unstable_time_step: return "unstable_time_step";
   }
   return "unknown";
 }

@@ -34,6 +34,7 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
   }
   m.coupling_omega = std::sqrt(worst);
   const double factor = dem_stable_step_factor(dem.integrator, dem.damping_ratio);
+  m.beyond_stable_step = m.coupling_omega * dem.dt > factor || m.coupling_omega * m.dt > kCoupledMaxOmegaDt;
   if (desc.reject_unstable_coupling && m.coupling_omega * dem.dt > factor)
     return BuildResult::failure(BuildResult::Code::unstable_time_step,
                                 "time.dt: the particle substep %g s (dt / dem_substeps) exceeds the stable step %g s of "
@@ -135,6 +136,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     ++passes;
   }
   if (!settled) status |= StepStatus::coupling_unstable;
+  if (m.beyond_stable_step) status |= StepStatus::unstable_time_step;
   // Books: the particles took J, the bar received (f + carried)·dt.
   s.impulse_to_particles += J;
   s.impulse_to_bar += (f + carried) * m.dt;

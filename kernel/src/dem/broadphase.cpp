@@ -154,6 +154,9 @@ StepStatus build_pair_list_untimed(const DemModel<D>& m, DemState<D>& s, DemWork
     for (std::int32_t i = 0; i < n; ++i) s.x_ref[d][i] = x[d][i];
   s.pairs_valid = 1;
   ++s.list_builds;
+  // The contacts touching now (listed pairs within the skin would count
+  // near-misses that the dense packings of docs/benchmarks.md are full of).
+  s.network_omega2 = network_omega2<D>(m, s, w, x, 0.0);
   return StepStatus::ok;
 }
 

@@ -187,6 +187,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   m.max_contact_omega = std::sqrt(omega2);
   const double factor = dem_stable_step_factor(desc.integrator, desc.damping_ratio);
   m.stable_dt = omega2 > 0 ? factor / m.max_contact_omega : INFINITY;
+  m.stable_factor = factor;
   if (desc.reject_unstable_dt && desc.dt > m.stable_dt)
     return BuildResult::failure(Code::unstable_time_step,
                                 "dt: %g s exceeds the stable step %g s of integrator %s for the stiffest contact "
@@ -252,6 +253,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     w.cell_particles.assign(un, 0);
     w.particle_cell.assign(un, 0);
   }
+  w.network_row.assign(un * static_cast<std::size_t>(D * (D + 1) / 2), 0.0);
   if (m.features.broad_phase == BroadPhase::all_pairs) {
     std::int32_t c = 0;
     for (std::int32_t i = 0; i < m.n; ++i)
@@ -292,6 +294,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     }
     for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
     s.hist_plane_force[0] = w.plane_force;
+    if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x, 0.0);
   }
   s.history_count = 1;
   return BuildResult::success();

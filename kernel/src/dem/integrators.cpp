@@ -484,6 +484,18 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   }
   ++s.step;
   s.time = static_cast<double>(s.step) * m.dt;
+  // Past the single contact's stable step (only with DemDesc::reject_unstable_dt
+  // off), or past the contact network's (several contacts on one particle):
+  // say it on every such step. The bound is re-read from the touching contacts
+  // here unless the grid keeps it with its pair list. 1e-12: rounding of dt²ω²
+  // at a step set exactly to the limit.
+  if (m.features.broad_phase != BroadPhase::grid) {
+    ConstColumns<D> x;
+    for (int d = 0; d < D; ++d) x[d] = s.x[d].data();
+    s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x, 0.0);
+  }
+  if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
+    status |= StepStatus::unstable_time_step;
   if (!all_finite(m, s, w)) status |= StepStatus::non_finite;
   return status;
 }
