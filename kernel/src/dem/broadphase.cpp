@@ -33,14 +33,15 @@ StepStatus build_pair_list_untimed(const DemModel<D>& m, DemState<D>& s, DemWork
   const std::int32_t n = m.n;
   s.pairs_valid = 0;
   s.pair_count = 0;
-  // Bounding box; non-finite positions cannot be binned.
+  // Bounding box; non-finite positions cannot be binned. A non-finite x_ref
+  // (the rebuild is how it is read) is reported the same way, and kept.
   double lo[D], hi[D];
   for (int d = 0; d < D; ++d) {
     lo[d] = x[d][0];
     hi[d] = x[d][0];
     for (std::int32_t i = 0; i < n; ++i) {
       const double xi = x[d][i];
-      if (!std::isfinite(xi)) return StepStatus::non_finite;
+      if (!std::isfinite(xi) || !std::isfinite(s.x_ref[d][i])) return StepStatus::non_finite;
       lo[d] = std::min(lo[d], xi);
       hi[d] = std::max(hi[d], xi);
     }

@@ -233,11 +233,17 @@ StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorksp
 
 /// One ABM4 PECE step (history complete) from the state into (w.x1, w.v1).
 /// `predict_kernel` evaluates at the prediction (frozen for abm4_events).
+/// Reports non_finite if a predicted position is not finite: the prediction
+/// reaches the new state only through the forces, and a contact test with NaN
+/// is false, so the oldest velocity slot (which nothing else reads) would
+/// otherwise silently drop the particle's contacts.
 template <int D>
 StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> predict_kernel) {
   const double c = m.dt / 24.0;
   const int f0 = s.history_head, f1 = (f0 + 3) % 4, f2 = (f0 + 2) % 4, f3 = (f0 + 1) % 4;
+  double probe[2] = {0, 0};
   over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+    double sum = 0;
     for (int d = 0; d < D; ++d) {
       const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
                    *v3 = s.hist_v[f3][d].data();
@@ -248,13 +254,16 @@ StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, A
       for (std::int32_t i = begin; i < end; ++i) {
         xs[i] = x[i] + c * (55.0 * v0[i] - 59.0 * v1[i] + 37.0 * v2[i] - 9.0 * v3[i]);
         vs[i] = v[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
+        sum += 0.0 * xs[i];
       }
     }
+    probe[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
   });
   StepStatus status = evaluate<D>(m, s, w, predict_kernel, s.time + m.dt,
                                   view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
                                   view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
   if (stop_now(status)) return status;
+  if (!(probe[0] + probe[1] == 0.0)) status |= StepStatus::non_finite;
   // The planes' share of the corrector's velocity update.
   weigh(w.plane_weighted, c,
         {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
@@ -332,6 +341,15 @@ bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, double ta, 
   return false;
 }
 
+/// Whether every x[d][i] and v[d][i] is finite (0·x is NaN exactly when x is not).
+template <int D>
+bool columns_finite(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v) {
+  double sum = 0;
+  for (int d = 0; d < D; ++d)
+    for (std::int32_t i = 0; i < m.n; ++i) sum += 0.0 * x[d][i] + 0.0 * v[d][i];
+  return sum == 0.0;
+}
+
 /// abm4 whose steps never straddle a contact event. The trial step (RK4 start
 /// or PECE) runs with the contact set frozen at the step start; if the set at
 /// the end differs, the step is redone in pieces: bisection finds the first
@@ -357,7 +375,11 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   if (stop_now(status)) return status;
   auto x1c = view<D>(static_cast<const decltype(w.x1)&>(w.x1));
   auto v1c = view<D>(static_cast<const decltype(w.v1)&>(w.v1));
-  if (!contact_set_changed<D>(m, s, t_n, x_n, v_n, t_end, x1c, v1c)) {
+  // A non-finite trial is committed as it is: a NaN reads as "no contact", so
+  // locating events in it would redo the step from the finite start and lose
+  // the NaN the trial read from the history.
+  if (has(status, StepStatus::non_finite) || !columns_finite<D>(m, x1c, v1c) ||
+      !contact_set_changed<D>(m, s, t_n, x_n, v_n, t_end, x1c, v1c)) {
     status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.a0));
     if (stop_now(status)) return status;
     commit<D>(m, s, w, w.a0, w.plane_weighted);
@@ -435,17 +457,69 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   return status;
 }
 
+/// Σ 0·c_k[i] over the columns c_k and i in [begin, end): 0 when every value
+/// is finite, NaN otherwise (0·x is NaN exactly when x is NaN or infinite), so
+/// it decides without a branch per value and whatever the order of the sum.
+/// Even and odd i are summed apart, which lets the compiler use packed SSE2.
+template <std::size_t K>
+[[gnu::always_inline]] inline double zero_probe(const std::array<const double*, K>& c, std::int32_t begin,
+                                                std::int32_t end) {
+  double even = 0, odd = 0;
+  std::int32_t i = begin;
+  for (; i + 1 < end; i += 2) {
+    double te = 0.0 * c[0][i], to = 0.0 * c[0][i + 1];
+    for (std::size_t k = 1; k < K; ++k) {
+      te += 0.0 * c[k][i];
+      to += 0.0 * c[k][i + 1];
+    }
+    even += te;
+    odd += to;
+  }
+  if (i < end)
+    for (std::size_t k = 0; k < K; ++k) even += 0.0 * c[k][i];
+  return even + odd;
+}
+
+/// The check after a step: whether every value of the state a NaN or an
+/// infinity can be in is finite. It covers:
+///  - x, v and the acceleration just stored: a NaN the step read from the
+///    particles, the inputs or the history slots it used ends up in them;
+///  - when the step did not read the whole history (one-step integrators, and
+///    abm4 while its history starts), the slots it left unread, which nothing
+///    else would look at before they are overwritten;
+///  - x_ref unless a grid is built (then it is read, and a rebuild reports it);
+///  - the planes' values and the time the step started from, O(planes): a NaN
+///    there makes a contact test false instead of propagating.
 template <int D>
-bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w) {
+bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, double start_time,
+                bool read_whole_history) {
+  // The other slots, oldest first: h3 is the one the step started from (its
+  // acceleration was read, its velocity copy was not).
+  const int head = s.history_head, h1 = (head + 1) & 3, h2 = (head + 2) & 3, h3 = (head + 3) & 3;
+  const bool check_x_ref = m.features.broad_phase != BroadPhase::grid;
   double probe[2] = {0, 0};
   for_parts(w.parallel, m.parts, [&](int part) {
     const std::int32_t begin = part == 0 ? 0 : m.split, end = part == 0 ? m.split : m.n;
     double sum = 0;
-    for (int d = 0; d < D; ++d)
-      for (std::int32_t i = begin; i < end; ++i) sum += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
+    for (int d = 0; d < D; ++d) {
+      const double *x = s.x[d].data(), *v = s.v[d].data(), *a = s.hist_a[head][d].data();
+      if (read_whole_history) {
+        sum += zero_probe<3>({x, v, a}, begin, end);
+      } else {
+        sum += zero_probe<8>({x, v, a, s.hist_v[h1][d].data(), s.hist_v[h2][d].data(), s.hist_v[h3][d].data(),
+                              s.hist_a[h1][d].data(), s.hist_a[h2][d].data()},
+                             begin, end);
+      }
+      if (check_x_ref) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
+    }
     probe[part] = sum;
   });
-  return probe[0] + probe[1] == 0.0;  // 0·x is NaN exactly when x is NaN or infinite
+  double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2;
+  for (std::size_t p = 0; p < s.plane_offset.size(); ++p) {
+    planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
+    for (const auto& force : s.hist_plane_force) planes += 0.0 * force[p];
+  }
+  return probe[0] + probe[1] + planes == 0.0;
 }
 
 }  // namespace
@@ -468,6 +542,10 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   if (m.accelerations == nullptr) return StepStatus::not_built;
   StepStatus status = ensure_current_acceleration(m, s, w);
   if (stop_now(status)) return status;
+  const double start_time = s.time;  // overwritten below, read by the step (moving planes)
+  // A full ABM4 step reads every history slot; the others read only the head.
+  const bool read_whole_history =
+      (m.integrator == DemIntegrator::abm4 || m.integrator == DemIntegrator::abm4_events) && s.history_count == 4;
   switch (m.integrator) {
     case DemIntegrator::abm4: status |= step_abm4(m, s, w); break;
     case DemIntegrator::abm4_events: status |= step_abm4_events(m, s, w); break;
@@ -496,7 +574,7 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
-  if (!all_finite(m, s, w)) status |= StepStatus::non_finite;
+  if (!all_finite(m, s, w, start_time, read_whole_history)) status |= StepStatus::non_finite;
   return status;
 }
 
