@@ -369,7 +369,9 @@ StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarW
   if (!model.built) return StepStatus::not_built;
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   StepStatus s = op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
-  if (!all_finite(state.a)) s |= StepStatus::non_finite;
+  // The load is taken at state.time, and a load law tests t against its
+  // bounds: a NaN time would read as "no load" rather than propagate.
+  if (!all_finite(state.a) || !(0.0 * state.time == 0.0)) s |= StepStatus::non_finite;
   return s;
 }
 
