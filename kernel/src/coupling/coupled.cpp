@@ -87,6 +87,19 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
   return status;
 }
 
+/// Whether the values the window reads before the halves' own checks can see
+/// them are finite: the force and the books, and the top plane's drive state,
+/// which dem_drive_plane compares (a NaN compares unequal) and then overwrites.
+/// 0·x is NaN exactly when x is NaN or infinite.
+bool start_finite(const CoupledModel& m, const CoupledState& s) {
+  const auto top = static_cast<std::size_t>(m.top_plane);
+  const DemState<1>& dem = s.dem;
+  const double sum = 0.0 * s.coupling_force + 0.0 * s.pending_impulse + 0.0 * s.impulse_to_particles +
+                     0.0 * s.impulse_to_bar + 0.0 * dem.plane_offset[top] + 0.0 * dem.plane_speed[top] +
+                     0.0 * dem.plane_time + 0.0 * dem.hist_plane_force[static_cast<std::size_t>(dem.history_head)][top];
+  return sum == 0.0;
+}
+
 }  // namespace
 
 StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w);
@@ -106,17 +119,21 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   if (!m.bar.built || m.dem.accelerations == nullptr) return StepStatus::not_built;
   w.dem_start = s.dem;
   w.bar_start = s.bar;
+  // A non-finite start is stepped once and reported, like a non-finite pass.
+  StepStatus status = start_finite(m, s) ? StepStatus::ok : StepStatus::non_finite;
   // The bar also takes back what earlier windows left unbalanced.
   const double carried = -s.pending_impulse / m.dt;
   // Fixed point of g(f) = −J(f)/dt − f, from last window's force.
   double f = s.coupling_force, J = 0;
-  StepStatus status = window_pass(m, s, w, f + carried, false, J);
+  status |= window_pass(m, s, w, f + carried, false, J);
   if (has(status, kStepNotTaken)) return status;
   double g = -J / m.dt - f;
   double f_prev = 0, g_prev = 0;
   int passes = 1;
   bool settled = false;
   for (;;) {
+    // Nothing to iterate once a value is NaN or infinite: the window is taken as it is.
+    if (has(status, StepStatus::non_finite)) break;
     const double scale = std::fabs(f) + std::fabs(J / m.dt);
     // 1e-10: J carries the round-off of ~40 weighted force sums and a bar
     // solve (observed 1e-12 relative); what is left is carried, not lost.
@@ -135,7 +152,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     g = -J / m.dt - f;
     ++passes;
   }
-  if (!settled) status |= StepStatus::coupling_unstable;
+  if (!settled && !has(status, StepStatus::non_finite)) status |= StepStatus::coupling_unstable;
   if (m.beyond_stable_step) status |= StepStatus::unstable_time_step;
   // Books: the particles took J, the bar received (f + carried)·dt.
   s.impulse_to_particles += J;
