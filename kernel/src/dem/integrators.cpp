@@ -488,6 +488,8 @@ template <std::size_t K>
 ///    abm4 while its history starts), the slots it left unread, which nothing
 ///    else would look at before they are overwritten;
 ///  - x_ref unless a grid is built (then it is read, and a rebuild reports it);
+///  - the listed pairs' η in an undamped model, where no force reads it (a
+///    damped one reads the cached K and η of every touching pair);
 ///  - the planes' values and the time the step started from, O(planes): a NaN
 ///    there makes a contact test false instead of propagating.
 template <int D>
@@ -515,6 +517,7 @@ bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D
     probe[part] = sum;
   });
   double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2;
+  if (!m.features.damped) planes += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
   for (std::size_t p = 0; p < s.plane_offset.size(); ++p) {
     planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
     for (const auto& force : s.hist_plane_force) planes += 0.0 * force[p];
