@@ -21,8 +21,12 @@ enum class StepStatus : std::uint32_t {
   /// The particles' bounding box needs more broad-phase cells than
   /// Capacities::max_grid_cells (particles spread too far apart). Step not taken.
   grid_capacity = 1u << 2,
-  /// A position, velocity or force is NaN or infinite after the step. The step
-  /// was taken; the state holds the non-finite values for inspection.
+  /// A NaN or an infinity in the state the step started from, in its inputs, or
+  /// produced by the step: reported by the step that meets it (what each
+  /// stepper checks, and the one exception, a pair cache the step never reads:
+  /// docs/dem.md, "Non-finite values"). The step was taken; the state holds the
+  /// non-finite values for inspection, but for a value the step overwrites
+  /// (the time, recomputed from the step count).
   non_finite = 1u << 3,
   /// More contact events inside one step than Capacities::max_events_per_step
   /// (abm4_events only). The step was completed without locating the rest.
