@@ -31,17 +31,18 @@ constexpr Newmark kPaper{0.4, 0.6};         // the paper's and the scenes' choic
 /// β on the stability boundary for this γ, (γ + ½)²/4.
 double boundary_beta(double gamma) { return 0.25 * (gamma + 0.5) * (gamma + 0.5); }
 
-void run_and_check(const BarDesc& d, const char* label) {
-  const BarOutcome o = run_bar_case(d, KickedRod{}, kSteps);
+void run_and_check(BarDesc d, const char* label) {
+  const KickedRod load = load_for(d);
+  const BarOutcome o = run_bar_case(d, load, kSteps);
   print_outcome(label, o);
   expect_case(label, d, o);
 }
 
 // k from 1·E·A to 1e6·E·A per metre, Newmark (¼, ½) and (0.4, 0.6), both
 // methods, fixed and absorbing base, interface mid-element (14.5 m).
-void penalty_sweep(Behaviour behaviour) {
+void penalty_sweep(Behaviour behaviour, std::initializer_list<Newmark> schemes = {kTrapezoidal, kPaper}) {
   for (double multiple : {1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6})
-    for (Newmark nm : {kTrapezoidal, kPaper})
+    for (Newmark nm : schemes)
       for (Method method : {Method::xfem, Method::fem})
         for (Base base : {Base::fixed, Base::absorbing}) {
           BarDesc d = kicked_rod();
@@ -60,9 +61,9 @@ void penalty_sweep(Behaviour behaviour) {
 
 // Interface at x_e + f·h in element 14 (x_e = 14 m, h = 1 m), f = 1e-1 … 1e-9
 // and 1 − 1e-9, the paper's penalty 100·E·A, fixed base.
-void cut_sweep(Behaviour behaviour) {
+void cut_sweep(Behaviour behaviour, std::initializer_list<Newmark> schemes = {kTrapezoidal, kPaper}) {
   for (double f : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1.0 - 1e-9})
-    for (Newmark nm : {kTrapezoidal, kPaper})
+    for (Newmark nm : schemes)
       for (Method method : {Method::xfem, Method::fem}) {
         BarDesc d = kicked_rod();
         d.interface->position = 14.0 + f;
@@ -80,11 +81,11 @@ void cut_sweep(Behaviour behaviour) {
 // On the boundary of the accepted region: (¼, ½) and β = (γ + ½)²/4 for
 // γ = 0.6 and 0.9, at the paper's interface (100·E·A, mid-element) and at the
 // stiffest, thinnest corner (1e6·E·A at a cut of 1e-9).
-void boundary_sweep(Behaviour behaviour) {
+void boundary_sweep(Behaviour behaviour, std::initializer_list<double> gammas = {0.5, 0.6, 0.9}) {
   struct Corner {
     double multiple, fraction;
   };
-  for (double gamma : {0.5, 0.6, 0.9})
+  for (double gamma : gammas)
     for (Corner corner : {Corner{1e2, 0.5}, Corner{1e6, 1e-9}})
       for (Method method : {Method::xfem, Method::fem}) {
         BarDesc d = kicked_rod();
@@ -111,6 +112,35 @@ void boundary_sweep(Behaviour behaviour) {
 TEST(BarStress, TiedInterfacePenaltyOverSixDecades) { penalty_sweep(Behaviour::tied); }
 TEST(BarStress, TiedCutFractionsDownTo1e9) { cut_sweep(Behaviour::tied); }
 TEST(BarStress, TiedNewmarkOnTheStabilityBoundaryStaysBounded) { boundary_sweep(Behaviour::tied); }
+
+// A unilateral interface (load: the upper piece dropped from 0.1 m under the
+// press, bouncing about once a second). Integrated across a switch, the
+// trapezoidal average of its kinked force gains R = ½ k |g_n| g_{n+1} at every
+// opening (bar_sweeps.hpp). The identity holds to round-off in every case
+// below (≤ 5e-5 of A, at the conforming mesh's 1e-9 sliver), so the kernel
+// solves the scheme exactly and the gains are the scheme's.
+//   - (0.4, 0.6) and (0.49, 0.9): the scheme's own dissipation absorbs what
+//     the openings gain; E ≤ Ê0 + W at every step, every penalty, cut and method.
+TEST(BarStress, UnilateralInterfacePenaltyOverSixDecades) { penalty_sweep(Behaviour::unilateral, {kPaper}); }
+TEST(BarStress, UnilateralCutFractionsDownTo1e9) { cut_sweep(Behaviour::unilateral, {kPaper}); }
+TEST(BarStress, UnilateralNewmarkOnTheStabilityBoundaryAtGamma09StaysBounded) {
+  boundary_sweep(Behaviour::unilateral, {0.9});
+}
+// Known defect, kept visible as disabled tests: nothing dissipates the
+// switching gains of Newmark (¼, ½), and on the boundary at γ = 0.6
+// (β = 0.3025) the dissipation only partly keeps up; no status reports it.
+// Measured in 2e4 steps, (E − Ê0 − W)/A: (¼, ½) 0.13–2 at 10·E·A, 4e2–7e3 from
+// 100·E·A on, 40–120 at cuts from 1e-2 to 1e-9; γ = 0.6 on the boundary
+// 0.02–0.19 at 100·E·A and 1.4–2.3 at 1e6·E·A with a 1e-9 cut.
+TEST(BarStress, DISABLED_UnilateralTrapezoidalPenaltyOverSixDecades) {
+  penalty_sweep(Behaviour::unilateral, {kTrapezoidal});
+}
+TEST(BarStress, DISABLED_UnilateralTrapezoidalCutFractionsDownTo1e9) {
+  cut_sweep(Behaviour::unilateral, {kTrapezoidal});
+}
+TEST(BarStress, DISABLED_UnilateralNewmarkOnTheBoundaryAtGamma05And06StaysBounded) {
+  boundary_sweep(Behaviour::unilateral, {0.5, 0.6});
+}
 
 // Beyond the boundary (β < (γ + ½)²/4, or γ < ½) the scheme is at best
 // conditionally stable, with a step limit set by the highest frequency, which a
