@@ -38,6 +38,7 @@
 #include "support/coupled_scenes.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 #include "xfdem/state_io.hpp"
+#include "xfem/reference.hpp"
 
 namespace xfdem::testing {
 namespace {
@@ -403,18 +404,12 @@ TEST(NonFinite, PairCacheIsReadOnlyWhenThePairTouches) {
 // ---- bar -------------------------------------------------------------------------
 
 BarDesc loaded_bar(BarDesc::Method method, BarInterfaceDesc::Behaviour behaviour, BarDesc::Base base) {
-  BarDesc d;
-  d.length = 30.0;
-  d.youngs_modulus = 3e7;
-  d.area = 0.4;
-  d.density = 2000.0;
-  d.elements = 30;
-  d.dt = 1e-3;
+  BarDesc d = test::v2_rod();
   d.method = method;
   d.base = base;
   d.interface = BarInterfaceDesc{14.5, 1.2e9, behaviour};
   d.tip_load = BarDesc::TipLoad::step;
-  d.tip_amplitude = -1e4;
+  d.tip_duration = 0.0;
   return d;
 }
 

@@ -294,7 +294,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     }
     for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
     s.hist_plane_force[0] = w.plane_force;
-    if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x, 0.0);
+    if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
   }
   s.history_count = 1;
   return BuildResult::success();

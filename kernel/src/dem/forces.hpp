@@ -34,12 +34,11 @@ inline double normal_force(double K, double eta, double overlap, double rate) {
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
-/// Gershgorin bound on the squared highest frequency of the contacts that
-/// can act: pairs of the list and planes closer than `margin` (m) at positions
-/// x. Defined in network.cpp.
+/// Gershgorin bound on the squared highest frequency of the contacts touching
+/// at positions x: listed pairs that overlap and planes a sphere reaches.
+/// Defined in network.cpp.
 template <int D>
-double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
-                      double margin);
+double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
 /// dx = x_j − x_i per axis; returns |dx|² (the one order of operations every
 /// path uses, so that they round alike).

@@ -341,12 +341,34 @@ bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, double ta, 
   return false;
 }
 
-/// Whether every x[d][i] and v[d][i] is finite (0·x is NaN exactly when x is not).
+/// Σ 0·c_k[i] over the columns c_k and i in [begin, end): 0 when every value
+/// is finite, NaN otherwise (0·x is NaN exactly when x is NaN or infinite), so
+/// it decides without a branch per value and whatever the order of the sum.
+/// Even and odd i are summed apart, which lets the compiler use packed SSE2.
+template <std::size_t K>
+[[gnu::always_inline]] inline double zero_probe(const std::array<const double*, K>& c, std::int32_t begin,
+                                                std::int32_t end) {
+  double even = 0, odd = 0;
+  std::int32_t i = begin;
+  for (; i + 1 < end; i += 2) {
+    double te = 0.0 * c[0][i], to = 0.0 * c[0][i + 1];
+    for (std::size_t k = 1; k < K; ++k) {
+      te += 0.0 * c[k][i];
+      to += 0.0 * c[k][i + 1];
+    }
+    even += te;
+    odd += to;
+  }
+  if (i < end)
+    for (std::size_t k = 0; k < K; ++k) even += 0.0 * c[k][i];
+  return even + odd;
+}
+
+/// Whether every x[d][i] and v[d][i] is finite.
 template <int D>
 bool columns_finite(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v) {
   double sum = 0;
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < m.n; ++i) sum += 0.0 * x[d][i] + 0.0 * v[d][i];
+  for (int d = 0; d < D; ++d) sum += zero_probe<2>({x[d], v[d]}, 0, m.n);
   return sum == 0.0;
 }
 
@@ -457,29 +479,6 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   return status;
 }
 
-/// Σ 0·c_k[i] over the columns c_k and i in [begin, end): 0 when every value
-/// is finite, NaN otherwise (0·x is NaN exactly when x is NaN or infinite), so
-/// it decides without a branch per value and whatever the order of the sum.
-/// Even and odd i are summed apart, which lets the compiler use packed SSE2.
-template <std::size_t K>
-[[gnu::always_inline]] inline double zero_probe(const std::array<const double*, K>& c, std::int32_t begin,
-                                                std::int32_t end) {
-  double even = 0, odd = 0;
-  std::int32_t i = begin;
-  for (; i + 1 < end; i += 2) {
-    double te = 0.0 * c[0][i], to = 0.0 * c[0][i + 1];
-    for (std::size_t k = 1; k < K; ++k) {
-      te += 0.0 * c[k][i];
-      to += 0.0 * c[k][i + 1];
-    }
-    even += te;
-    odd += to;
-  }
-  if (i < end)
-    for (std::size_t k = 0; k < K; ++k) even += 0.0 * c[k][i];
-  return even + odd;
-}
-
 /// The check after a step: whether every value of the state a NaN or an
 /// infinity can be in is finite. It covers:
 ///  - x, v and the acceleration just stored: a NaN the step read from the
@@ -573,7 +572,7 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   if (m.features.broad_phase != BroadPhase::grid) {
     ConstColumns<D> x;
     for (int d = 0; d < D; ++d) x[d] = s.x[d].data();
-    s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x, 0.0);
+    s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;

@@ -35,8 +35,7 @@ void add_outer(double* t, double weight, const double (&n)[D]) {
 }  // namespace
 
 template <int D>
-double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
-                      double margin) {
+double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   constexpr int kEntries = D * (D + 1) / 2;
   const std::int32_t n = m.n;
   double* t = w.network_row.data();
@@ -45,7 +44,7 @@ double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D
     const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
     double dx[D];
     const double dist2 = separation<D>(x, i, j, dx);
-    const double reach = m.radius[i] + m.radius[j] + margin;
+    const double reach = m.radius[i] + m.radius[j];
     if (!(dist2 < reach * reach)) continue;
     double normal[D];
     const double dist = std::sqrt(dist2);
@@ -62,7 +61,7 @@ double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D
     for (std::int32_t i = 0; i < n; ++i) {
       double height = 0;
       for (int d = 0; d < D; ++d) height += (x[d][i] - point[d]) * normal[d];
-      if (m.radius[i] + margin - height > 0)
+      if (m.radius[i] - height > 0)
         add_outer<D>(t + std::int64_t{i} * kEntries, m.stiffness[i] * m.inv_mass[i], normal);
     }
   }
@@ -79,8 +78,7 @@ double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D
 }
 
 #define XFDEM_INSTANTIATE(D)                                                                                   \
-  template double network_omega2<D>(const DemModel<D>&, const DemState<D>&, DemWorkspace<D>&, ConstColumns<D>, \
-                                    double);
+  template double network_omega2<D>(const DemModel<D>&, const DemState<D>&, DemWorkspace<D>&, ConstColumns<D>);
 XFDEM_INSTANTIATE(1)
 XFDEM_INSTANTIATE(2)
 XFDEM_INSTANTIATE(3)

@@ -371,7 +371,7 @@ StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarW
   StepStatus s = op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
   // The load is taken at state.time, and a load law tests t against its
   // bounds: a NaN time would read as "no load" rather than propagate.
-  if (!all_finite(state.a) || !(0.0 * state.time == 0.0)) s |= StepStatus::non_finite;
+  if (!all_finite(state.a) || !std::isfinite(state.time)) s |= StepStatus::non_finite;
   return s;
 }
 
