@@ -37,8 +37,7 @@ void deep_run(Behaviour behaviour, std::initializer_list<Corner> corners, bool a
                      Newmark{boundary_beta(0.9), 0.9}})
     for (Corner corner : corners)
       for (Method method : {Method::xfem, Method::fem}) {
-        // Known to gain unreported (the disabled BarStress tests): (¼, ½) and γ = 0.6 on the boundary.
-        if (unilateral && (nm.gamma == 0.5 || (nm.gamma == 0.6 && nm.beta != 0.4))) continue;
+        if (unilateral && nm.gamma == 0.6 && nm.beta != 0.4) continue;
         BarDesc d = kicked_rod();
         d.interface->stiffness = penalty(d, corner.multiple);
         d.interface->position = 14.0 + corner.fraction;
@@ -67,7 +66,9 @@ TEST(BarLong, TiedInterfaceOnAnAbsorbingBaseStaysBoundedOver1e6Steps) {
   deep_run(Behaviour::tied, {Corner{1e6, 1e-9}}, true);
 }
 
-// Over 1e6 steps at (0.4, 0.6) and (0.49, 0.9): E ≤ Ê0 + W throughout.
+// Over 1e6 steps, (¼, ½) with its events located, (0.4, 0.6) and (0.49, 0.9):
+// E ≤ Ê0 + W throughout. γ = 0.6 on the boundary is left out: it fails in the
+// fast sweep already (the disabled BarStress test).
 TEST(BarLong, UnilateralInterfaceStaysBoundedOver1e6Steps) {
   deep_run(Behaviour::unilateral, {Corner{1.0, 0.5}, Corner{1e2, 0.5}, Corner{1e6, 1e-9}});
 }

@@ -116,30 +116,29 @@ TEST(BarStress, TiedNewmarkOnTheStabilityBoundaryStaysBounded) { boundary_sweep(
 // A unilateral interface (load: the upper piece dropped from 0.1 m under the
 // press, bouncing about once a second). Integrated across a switch, the
 // trapezoidal average of its kinked force gains R = ½ k |g_n| g_{n+1} at every
-// opening (bar_sweeps.hpp). The identity holds to round-off in every case
-// below (≤ 5e-5 of A, at the conforming mesh's 1e-9 sliver), so the kernel
-// solves the scheme exactly and the gains are the scheme's.
-//   - (0.4, 0.6) and (0.49, 0.9): the scheme's own dissipation absorbs what
-//     the openings gain; E ≤ Ê0 + W at every step, every penalty, cut and method.
-TEST(BarStress, UnilateralInterfacePenaltyOverSixDecades) { penalty_sweep(Behaviour::unilateral, {kPaper}); }
-TEST(BarStress, UnilateralCutFractionsDownTo1e9) { cut_sweep(Behaviour::unilateral, {kPaper}); }
-TEST(BarStress, UnilateralNewmarkOnTheStabilityBoundaryAtGamma09StaysBounded) {
-  boundary_sweep(Behaviour::unilateral, {0.9});
+// opening (bar_sweeps.hpp), which nothing in the trapezoidal rule takes out.
+// What the map shows:
+//   - (¼, ½): every step in which the set changes is split where the gap is
+//     zero, each substep of a linear system, so E = E0 + W holds to round-off
+//     (measured: a few 1e-13 of A at 1–1e6·E·A and at cuts to 1e-9 with X-FEM).
+//     The only reports: the conforming mesh's 1e-9 slivers and 1e6·E·A at a
+//     1e-9 cut (both meshes), where the sliver's phantom mode moves the gap too fast for the
+//     crossing to be found to round-off (active_set_not_converged).
+//   - (0.4, 0.6) and (0.49, 0.9), one step each: the scheme's own dissipation
+//     D absorbs what the openings gain; E ≤ Ê0 + W at every step.
+TEST(BarStress, UnilateralInterfacePenaltyOverSixDecades) { penalty_sweep(Behaviour::unilateral); }
+TEST(BarStress, UnilateralCutFractionsDownTo1e9) { cut_sweep(Behaviour::unilateral); }
+TEST(BarStress, UnilateralNewmarkOnTheStabilityBoundaryStaysBounded) {
+  boundary_sweep(Behaviour::unilateral, {0.5, 0.9});
 }
-// Known defect, kept visible as disabled tests: nothing dissipates the
-// switching gains of Newmark (¼, ½), and on the boundary at γ = 0.6
-// (β = 0.3025) the dissipation only partly keeps up; no status reports it.
-// Measured in 2e4 steps, (E − Ê0 − W)/A: (¼, ½) 0.13–2 at 10·E·A, 4e2–7e3 from
-// 100·E·A on, 40–120 at cuts from 1e-2 to 1e-9; γ = 0.6 on the boundary
-// 0.02–0.19 at 100·E·A and 1.4–2.3 at 1e6·E·A with a 1e-9 cut.
-TEST(BarStress, DISABLED_UnilateralTrapezoidalPenaltyOverSixDecades) {
-  penalty_sweep(Behaviour::unilateral, {kTrapezoidal});
-}
-TEST(BarStress, DISABLED_UnilateralTrapezoidalCutFractionsDownTo1e9) {
-  cut_sweep(Behaviour::unilateral, {kTrapezoidal});
-}
-TEST(BarStress, DISABLED_UnilateralNewmarkOnTheBoundaryAtGamma05And06StaysBounded) {
-  boundary_sweep(Behaviour::unilateral, {0.5, 0.6});
+// Known defect, kept visible: on the boundary at γ = 0.6 (β = 0.3025) the
+// dissipation only partly keeps up with the switching gain, and nothing
+// reports it: (E − Ê0 − W)/A reaches 0.02–0.19 at 100·E·A and 1.4–2.3 at
+// 1e6·E·A with a 1e-9 cut, in 2e4 steps. Locating events does not help there
+// (substeps of other lengths pump a sliver's unresolved modes through the
+// ½h²(β − γ/2)aᵀMa term of the algorithmic energy; see bar_step()).
+TEST(BarStress, DISABLED_UnilateralNewmarkOnTheBoundaryAtGamma06StaysBounded) {
+  boundary_sweep(Behaviour::unilateral, {0.6});
 }
 
 // Beyond the boundary (β < (γ + ½)²/4, or γ < ½) the scheme is at best

@@ -66,6 +66,11 @@ struct BarDesc {
   /// Unilateral interface: at most this many solves per step while the active
   /// set settles (one linear interface settles in at most 2).
   int max_active_set_iterations = 8;
+  /// Unilateral interface: at most this many openings and closings located
+  /// inside one step (each ends a substep exactly where the gap is zero; see
+  /// bar_step()). Beyond it the rest of the step keeps the last active set and
+  /// reports active_set_not_converged.
+  int max_interface_events = 64;
   /// Upper bound on the number of unknowns; 0 sizes everything to the mesh.
   /// A mesh needing more is a BuildResult::Code::capacity failure.
   int max_dofs = 0;
@@ -116,6 +121,7 @@ struct BarModel {
   // interface spring (added as k·g gᵀ through gap_dof/gap_coeff).
   xfem::SymmetricBand mass;
   xfem::SymmetricBand stiffness;
+  std::vector<double> mass_row_sums;  ///< M·1: (M·1)ᵀa = 1ᵀMa, the net force on the bar
   xfem::NewmarkScheme scheme;
   xfem::BandLdlt mass_factor;       ///< M alone, for a_0 (u is given there: the interface force goes to the right-hand side)
   xfem::BandLdlt effective_open;    ///< M + γΔt C + βΔt² K            (no interface, or unilateral open)
@@ -157,6 +163,23 @@ struct BarState {
 /// Scratch of a step, sized at build.
 struct BarWorkspace {
   std::vector<double> u_pred, v_pred, rhs;
+  // Unilateral interface only: the state a substep starts from, and the
+  // effective matrix of a substep's length with its factor.
+  std::vector<double> u_start, v_start, a_start;
+  xfem::SymmetricBand substep_matrix;
+  xfem::BandLdlt substep_factor;
+  /// Diagnostics of the last bar_step(): interface events located in it (0: one
+  /// Newmark step of Δt), and substep factorisations it took.
+  int last_events = 0;
+  int last_factorisations = 0;
+  /// The external impulse of the last bar_step(): Σ over its substeps of
+  /// h·[(1 − γ) 1ᵀM a_start + γ 1ᵀM a_end], the net force the scheme integrates
+  /// (the tip load and input, the base's dashpot and spring, or a fixed base's
+  /// reaction: the elastic and interface forces are internal). By Newmark's
+  /// momentum identity the bar's momentum 1ᵀMv changes by exactly this. A
+  /// step split at interface events samples the forces at its substeps' ends,
+  /// not only at t_n and t_{n+1}.
+  double last_external_impulse = 0.0;
 };
 
 /// Validates every field (the message starts with the field's name, e.g.
@@ -168,8 +191,19 @@ BuildResult build_bar(const BarDesc& desc, BarModel& model, BarState& state, Bar
 /// Only the validation of build_bar() (no allocation), for tools that check input first.
 BuildResult validate_bar(const BarDesc& desc);
 
-/// Advances one step of dt: loads at t_{n+1} = (step + 1)·dt. Returns ok, or
-/// active_set_not_converged (step taken with the last active set), or
+/// Advances one step of dt: loads at t_{n+1} = (step + 1)·dt.
+///
+/// A unilateral interface whose active set changes during the step is not
+/// integrated across the change: the trapezoidal average of a force with a
+/// kink gains ½·k·|g_n|·g_{n+1} at every opening (and loses at closings), and
+/// nothing in the scheme bounds the sum. The step is instead split where the
+/// gap reaches zero (found by regula falsi on the substep length, each trial a
+/// Newmark substep with the old active set), and the rest is taken with the new
+/// one, so each substep integrates a linear system and the energy bounds of
+/// docs/stability.md hold. A step without a change is exactly one Newmark step.
+/// Returns ok, or
+/// active_set_not_converged (step taken with the last active set, or more than
+/// max_interface_events located in it), or
 /// non_finite (step taken, the state holds the non-finite values), or
 /// not_built (nothing done).
 StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& workspace, const BarInput& input = {});

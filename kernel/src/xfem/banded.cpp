@@ -73,9 +73,12 @@ double SymmetricBand::quadratic(const double* x) const {
 
 bool BandLdlt::factor(const SymmetricBand& a) {
   ready_ = false;
+  // Copies and assign() reuse the storage of an earlier factor of the same
+  // profile, so refactoring (the bar's event substeps) does not allocate.
   l_ = a;
   const int n = a.size();
-  std::vector<double> scale(static_cast<std::size_t>(n), 0.0);
+  std::vector<double>& scale = scale_;
+  scale.assign(static_cast<std::size_t>(n), 0.0);
   d_inv_.assign(static_cast<std::size_t>(n), 0.0);
   for (int i = 0; i < n; ++i) {
     const double aii = a.get(i, i);
@@ -91,7 +94,8 @@ bool BandLdlt::factor(const SymmetricBand& a) {
   // Row-oriented LDLᵀ within the profile: for j < i,
   //   L(i, j) = (Â(i, j) − Σ_k L(i, k) D_k L(j, k)) / D_j,  D_i = Â(i, i) − Σ_{k<i} L(i, k)² D_k,
   // k running over the columns both rows store.
-  std::vector<double> d(static_cast<std::size_t>(n), 0.0);
+  std::vector<double>& d = pivots_;
+  d.assign(static_cast<std::size_t>(n), 0.0);
   min_pivot_ = 1e300;
   max_pivot_ = 0.0;
   for (int i = 0; i < n; ++i) {

@@ -43,6 +43,8 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
     }
     if (initial) {
       m_.mass_factor.solve(k);
+    } else if (substep_factor_ != nullptr) {
+      substep_factor_->solve(k);
     } else {
       (closed ? m_.effective_closed : m_.effective_open).solve(k);
     }
@@ -55,6 +57,10 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
   if (!m_.unilateral) {
     closed_ = 1;
     solve_with(true);
+    return StepStatus::ok;
+  }
+  if (substep_factor_ != nullptr) {
+    solve_with(closed_ != 0);
     return StepStatus::ok;
   }
   if (initial) {
@@ -77,6 +83,17 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
     closed_ = want;
   }
   return StepStatus::active_set_not_converged;
+}
+
+void assemble_effective(const BarModel& m, double fac0, double fac1, bool closed, xfem::SymmetricBand& out) {
+  out = m.mass;  // same profile: reuses out's storage once it has held one
+  for (int i = 0; i < m.dofs; ++i)
+    for (int j = m.mass.first_column(i); j <= i; ++j) out.add(i, j, fac0 * m.stiffness.get(i, j));
+  if (m.base_dof >= 0) out.add(m.base_dof, m.base_dof, fac1 * m.base_damping);
+  if (closed)
+    for (int i = 0; i < m.gap_terms; ++i)
+      for (int j = 0; j <= i; ++j)
+        out.add(m.gap_dof[i], m.gap_dof[j], fac0 * m.interface_stiffness * m.gap_coeff[i] * m.gap_coeff[j]);
 }
 
 }  // namespace detail
@@ -167,6 +184,9 @@ BuildResult validate_bar(const BarDesc& d) {
   if (d.max_active_set_iterations < 1)
     return BuildResult::failure(Code::invalid_argument, "max_active_set_iterations: must be at least 1, got %d",
                                 d.max_active_set_iterations);
+  if (d.max_interface_events < 1)
+    return BuildResult::failure(Code::invalid_argument, "max_interface_events: must be at least 1, got %d",
+                                d.max_interface_events);
   if (d.max_dofs < 0) return BuildResult::failure(Code::invalid_argument, "max_dofs: must be >= 0, got %d", d.max_dofs);
   // Unknowns: nodes + 2 at most (phantoms or the duplicated node). Keep index arithmetic in int.
   if (d.elements > std::numeric_limits<int>::max() / 8)
@@ -306,6 +326,11 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
     model.stiffness.add(model.base_dof, model.base_dof, d.base_stiffness);
   }
   model.tip_dof = u_dof[static_cast<std::size_t>(ne)];
+  {
+    const std::vector<double> ones(static_cast<std::size_t>(model.dofs), 1.0);
+    model.mass_row_sums.assign(static_cast<std::size_t>(model.dofs), 0.0);
+    model.mass.multiply(ones.data(), model.mass_row_sums.data());
+  }
   for (int j = std::max(0, model.tip_dof - kd); j <= std::min(model.dofs - 1, model.tip_dof + kd); ++j)
     model.tip_mass += model.mass.get(model.tip_dof, j);
 
@@ -313,17 +338,8 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
   model.scheme = xfem::NewmarkScheme{d.beta, d.gamma, d.dt};
   const double fac0 = model.scheme.fac0(), fac1 = model.scheme.fac1();
   xfem::SymmetricBand eff;
-  auto build_effective = [&](bool closed) {
-    eff.resize(model.dofs, first);
-    for (int i = 0; i < model.dofs; ++i)
-      for (int j = first[static_cast<std::size_t>(i)]; j <= i; ++j)
-        eff.add(i, j, model.mass.get(i, j) + fac0 * model.stiffness.get(i, j));
-    if (model.base_dof >= 0) eff.add(model.base_dof, model.base_dof, fac1 * model.base_damping);
-    if (closed)
-      for (int i = 0; i < model.gap_terms; ++i)
-        for (int j = 0; j <= i; ++j)
-          eff.add(model.gap_dof[i], model.gap_dof[j], fac0 * model.interface_stiffness * model.gap_coeff[i] * model.gap_coeff[j]);
-  };
+  auto build_effective = [&](bool closed) { detail::assemble_effective(model, fac0, fac1, closed, eff); };
+
   if (!model.mass_factor.factor(model.mass))
     return BuildResult::failure(Code::invalid_argument, "elements: the mass matrix is not positive definite");
   if (!has_if || model.unilateral) {
@@ -346,6 +362,15 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
   workspace.u_pred.assign(n, 0.0);
   workspace.v_pred.assign(n, 0.0);
   workspace.rhs.assign(n, 0.0);
+  if (model.unilateral) {
+    // Size the substep scratch now (a factor of this profile), so that a step
+    // that locates an interface event allocates nothing.
+    workspace.u_start.assign(n, 0.0);
+    workspace.v_start.assign(n, 0.0);
+    workspace.a_start.assign(n, 0.0);
+    workspace.substep_matrix = eff;
+    workspace.substep_factor.factor(eff);
+  }
   model.built = true;
   bar_initial_acceleration(model, state, workspace);
   return BuildResult::success();
@@ -375,13 +400,197 @@ StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarW
   return s;
 }
 
+namespace {
+
+// ---- unilateral interface: substeps that end where the gap is zero ----------
+
+/// The active set `closed` agrees with the gap g (closed iff g < 0, as the
+/// active-set iteration decides it).
+bool agrees(std::int32_t closed, double gap) { return (gap < 0.0) == (closed != 0); }
+
+void save_start(const BarState& st, BarWorkspace& ws) {
+  std::copy(st.u.begin(), st.u.end(), ws.u_start.begin());
+  std::copy(st.v.begin(), st.v.end(), ws.v_start.begin());
+  std::copy(st.a.begin(), st.a.end(), ws.a_start.begin());
+}
+void restore_start(BarState& st, const BarWorkspace& ws) {
+  std::copy(ws.u_start.begin(), ws.u_start.end(), st.u.begin());
+  std::copy(ws.v_start.begin(), ws.v_start.end(), st.v.begin());
+  std::copy(ws.a_start.begin(), ws.a_start.end(), st.a.begin());
+}
+
+/// One Newmark substep of length h ending at t_end, from the state in `st`,
+/// with the active set `closed` held. A substep of the model's Δt uses the
+/// factor the build made; any other length factors its own.
+StepStatus held_substep(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force, std::int32_t closed,
+                        double t_end, double h) {
+  const xfem::NewmarkScheme scheme{m.scheme.beta, m.scheme.gamma, h};
+  const xfem::BandLdlt* factor = closed != 0 ? &m.effective_closed : &m.effective_open;
+  if (h != m.scheme.dt) {
+    detail::assemble_effective(m, scheme.fac0(), scheme.fac1(), closed != 0, ws.substep_matrix);
+    ++ws.last_factorisations;
+    if (!ws.substep_factor.factor(ws.substep_matrix)) return StepStatus::non_finite;  // h not finite
+    factor = &ws.substep_factor;
+  }
+  std::int32_t held = closed;
+  const detail::BarOperator op(m, ws, tip_force, held, *factor);
+  return xfem::newmark_step(scheme, op, t_end, st.u.data(), st.v.data(), st.a.data(), ws.u_pred.data(),
+                            ws.v_pred.data());
+}
+
+/// 1ᵀM a: the net force on the bar that gives it acceleration a.
+double net_force(const BarModel& m, const double* a) {
+  double f = 0.0;
+  for (int i = 0; i < m.dofs; ++i) f += m.mass_row_sums[static_cast<std::size_t>(i)] * a[i];
+  return f;
+}
+
+/// Books a Newmark (sub)step of length h from acceleration a_start to a_end:
+/// its momentum identity 1ᵀM(v_end − v_start) = h[(1 − γ) 1ᵀM a_start + γ 1ᵀM a_end].
+void book_impulse(const BarModel& m, BarWorkspace& ws, double h, const double* a_start, const double* a_end) {
+  ws.last_external_impulse += h * ((1.0 - m.scheme.gamma) * net_force(m, a_start) + m.scheme.gamma * net_force(m, a_end));
+}
+
+/// Σ |terms of the gap|: the size of the numbers whose difference is the gap,
+/// hence the round-off floor of a computed gap.
+double gap_magnitude(const BarModel& m, const double* u) {
+  double s = 0.0;
+  for (int i = 0; i < m.gap_terms; ++i) s += std::fabs(m.gap_coeff[i] * u[m.gap_dof[i]]);
+  return s;
+}
+
+/// The step from t_n (state `st`, active set st.interface_closed) to t_next
+/// for a unilateral interface whose active set changes on the way. Each piece
+/// is taken with the set held; when its end disagrees with the set, the piece
+/// is cut back to where the gap crosses zero (regula falsi, Illinois variant,
+/// on the substep's length; the kept end is always past the crossing or on it,
+/// so the new set agrees with the gap it starts from), the set flips, the
+/// acceleration is re-solved from the equation of motion with the new set, and
+/// the rest of the step is the next piece. The spring acts over a piece either
+/// throughout or not at all, so each piece integrates a linear system.
+StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force, double t_n,
+                            double t_next) {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  constexpr int kMaxIterations = 100;  // Illinois converges superlinearly; this only bounds the loop
+  StepStatus status = StepStatus::ok;
+  double t = t_n;
+  for (;;) {
+    const std::int32_t closed = st.interface_closed;
+    const double h_rest = t_next - t;
+    save_start(st, ws);
+    const double g_start = detail::bar_gap_of(m, st.u.data());
+    status |= held_substep(m, st, ws, tip_force, closed, t_next, h_rest);
+    const double g_end = detail::bar_gap_of(m, st.u.data());
+    if (agrees(closed, g_end) || !std::isfinite(g_end) || has(status, StepStatus::non_finite)) {
+      book_impulse(m, ws, h_rest, ws.a_start.data(), st.a.data());
+      return status;
+    }
+    if (ws.last_events == m.desc.max_interface_events) {
+      // Out of events: the rest of the step as one plain Newmark step with the
+      // other set (for one spring the gap keeps its sign when the spring is
+      // switched, so the other set agrees with the end it gives).
+      restore_start(st, ws);
+      st.interface_closed = closed == 0 ? 1 : 0;
+      status |= held_substep(m, st, ws, tip_force, st.interface_closed, t_next, h_rest);
+      book_impulse(m, ws, h_rest, ws.a_start.data(), st.a.data());
+      return status | StepStatus::active_set_not_converged;
+    }
+
+    // Bracket of the crossing in fractions of h_rest: lo agrees with the held
+    // set, hi does not (or is the zero itself).
+    // g_lo and g_hi are the secant's weights (Illinois halves them); the
+    // crossing is found when hi's gap is round-off (8ε of its terms) or the
+    // bracket is a few ulps of the step.
+    double lo = 0.0, g_lo = g_start, hi = 1.0, g_hi = g_end;
+    auto relative = [&](double g) { return g == 0.0 ? 0.0 : std::fabs(g) / gap_magnitude(m, st.u.data()); };
+    double hi_residual = relative(g_end);
+    double at = 1.0;   // the fraction the state in `st` was stepped to
+    int replaced = 0;  // +1: hi was replaced last, −1: lo was
+    for (int it = 0; it < kMaxIterations; ++it) {
+      if (hi_residual <= 8.0 * kEps || hi - lo <= 4.0 * kEps * hi) break;
+      double theta = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+      if (!(theta > lo && theta < hi)) theta = 0.5 * (lo + hi);
+      restore_start(st, ws);
+      status |= held_substep(m, st, ws, tip_force, closed, t + theta * h_rest, theta * h_rest);
+      at = theta;
+      const double g = detail::bar_gap_of(m, st.u.data());
+      if (!std::isfinite(g)) return status | StepStatus::non_finite;
+      if (agrees(closed, g)) {
+        lo = theta;
+        g_lo = g;
+        if (replaced == -1) g_hi *= 0.5;
+        replaced = -1;
+      } else {
+        hi = theta;
+        g_hi = g;
+        hi_residual = relative(g);
+        if (replaced == +1) g_lo *= 0.5;
+        replaced = +1;
+      }
+    }
+    const double t_event = hi == 1.0 ? t_next : t + hi * h_rest;
+    if (at != hi) {
+      restore_start(st, ws);
+      status |= held_substep(m, st, ws, tip_force, closed, t_event, hi * h_rest);
+    }
+    book_impulse(m, ws, hi * h_rest, ws.a_start.data(), st.a.data());
+    // The switch puts ½k g² into the energy (closing) or takes it out (opening).
+    // Where the crossing could not be found that closely (a gap moving too fast
+    // for the floating-point resolution of the step, e.g. a sliver's phantom
+    // mode), say so rather than let it add up.
+    if (hi_residual > 8.0 * kEps) {
+      const double g = detail::bar_gap_of(m, st.u.data());
+      const double energy = 0.5 * (m.mass.quadratic(st.v.data()) + m.stiffness.quadratic(st.u.data()));
+      if (0.5 * m.interface_stiffness * g * g > 16.0 * kEps * energy) status |= StepStatus::active_set_not_converged;
+    }
+    ++ws.last_events;
+    // The new set from the gap (it disagrees with the old one), and the
+    // acceleration that goes with it.
+    const detail::BarOperator op(m, ws, tip_force, st.interface_closed);
+    status |= op.implicit_solve(0.0, 0.0, t_event, st.u.data(), st.v.data(), st.a.data());
+    if (hi == 1.0) return status;
+    t = t_event;
+  }
+}
+
+}  // namespace
+
+/// Interface events are located for the trapezoidal rule (β = ¼, γ = ½), the
+/// one accepted scheme with no numerical dissipation, which is energy-exact on
+/// every substep: nothing else would take out what a switch adds. For γ > ½ the
+/// algorithmic energy ½h²(β − γ/2)aᵀMa depends on the step length, so substeps
+/// of other lengths pump the unresolved modes of a sliver cut, while the whole step's
+/// numerical dissipation bounds the switching gain in the sweeps of
+/// tests/stress/bar_sweep_test.cpp.
+bool locates_interface_events(const BarModel& m) {
+  return m.unilateral && m.scheme.beta == 0.25 && m.scheme.gamma == 0.5;
+}
+
 StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& workspace, const BarInput& input) {
   if (!model.built) return StepStatus::not_built;
   // t_{n+1} from the step count, not by accumulation: no drift, same bits on replay.
   const double t_next = static_cast<double>(state.step + 1) * model.scheme.dt;
+  workspace.last_events = 0;
+  workspace.last_factorisations = 0;
+  workspace.last_external_impulse = 0.0;
+  const double t_n = static_cast<double>(state.step) * model.scheme.dt;
+  const std::int32_t closed_before = state.interface_closed;
+  const double net_force_start = net_force(model, state.a.data());
+  if (locates_interface_events(model)) save_start(state, workspace);
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
                                     workspace.u_pred.data(), workspace.v_pred.data());
+  if (locates_interface_events(model) && state.interface_closed != closed_before &&
+      !has(s, StepStatus::active_set_not_converged)) {
+    // The set changed within the step: take it again, in substeps that end at the change.
+    restore_start(state, workspace);
+    state.interface_closed = closed_before;
+    s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
+  } else {
+    workspace.last_external_impulse =
+        model.scheme.dt * ((1.0 - model.scheme.gamma) * net_force_start +
+                           model.scheme.gamma * net_force(model, state.a.data()));
+  }
   state.step += 1;
   state.time = t_next;
   if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a)) s |= StepStatus::non_finite;

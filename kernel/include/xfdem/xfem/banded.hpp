@@ -6,7 +6,8 @@
 // everywhere, i − 3 for the rows of the X-FEM cut element, whose four unknowns
 // are all coupled. Storing each row from its own first column keeps the cut
 // element from widening every other row. LDLᵀ creates no fill outside the
-// profile. resize() and factor() allocate; multiply(), quadratic() and solve()
+// profile. resize() allocates, and so does factor() unless the factor already
+// holds one of a matrix of the same profile; multiply(), quadratic() and solve()
 // never do.
 #pragma once
 #include <vector>
@@ -51,7 +52,8 @@ class SymmetricBand {
 /// SPD by construction.
 class BandLdlt {
  public:
-  /// Factors A. Allocates. Returns false (and leaves the factor unusable) if a
+  /// Factors A. Allocates, unless this factor was computed before for a matrix
+  /// of the same profile (then it reuses that storage). Returns false (and leaves the factor unusable) if a
   /// diagonal entry or a pivot is not positive, i.e. A is not SPD.
   bool factor(const SymmetricBand& a);
   /// x ← A⁻¹ x in place. No allocation.
@@ -69,6 +71,8 @@ class BandLdlt {
   double max_pivot_ = 0.0;
   SymmetricBand l_;            // unit lower factor of A (diagonal unused), same profile
   std::vector<double> d_inv_;  // 1/D_ii of A
+  std::vector<double> scale_;  // scratch of factor(): 1/√A_ii
+  std::vector<double> pivots_; // scratch of factor(): D of the scaled matrix
 };
 
 }  // namespace xfdem::xfem
