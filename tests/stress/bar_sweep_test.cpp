@@ -146,7 +146,7 @@ TEST(BarStress, DISABLED_UnilateralNewmarkOnTheBoundaryAtGamma06StaysBounded) {
 // stiff penalty or a sliver cut drives to infinity: the build must refuse,
 // naming the parameter. γ is checked first, so γ < ½ names `gamma` whatever β
 // is; otherwise `beta`, and its message states the bound, which must be the
-// closed form (γ + ½)²/4. The boundary itself is accepted, computed or written
+// closed form (γ + ½)²/4, and the value refused, in full. The boundary itself is accepted, computed or written
 // in decimal (the kernel allows a relative slack of 1e-12 for that); 1e-10
 // below it is refused.
 TEST(BarStress, NewmarkBeyondTheStabilityBoundaryIsRefused) {
@@ -198,8 +198,19 @@ TEST(BarStress, NewmarkBeyondTheStabilityBoundaryIsRefused) {
       }
       ASSERT_FALSE(r.ok()) << "beta " << c.beta << " gamma " << c.gamma;
       EXPECT_EQ(message.rfind(std::string(c.field) + ":", 0), 0u) << message;
+      // Past the boundary is a stability refusal; a non-finite value is bad input.
+      const bool finite = std::isfinite(c.beta) && std::isfinite(c.gamma);
+      EXPECT_EQ(r.code, finite ? BuildResult::Code::unstable_time_step : BuildResult::Code::invalid_argument)
+          << message;
+      if (finite) {
+        // The offending value is printed in full: a hair past the bound does not read as the bound.
+        const double value = std::string(c.field) == "beta" ? c.beta : c.gamma;
+        const std::size_t got = message.rfind("got ");
+        ASSERT_NE(got, std::string::npos) << message;
+        EXPECT_EQ(std::strtod(message.c_str() + got + 4, nullptr), value) << message;
+      }
       EXPECT_EQ(bar_step(m, st, ws), StepStatus::not_built);
-      if (std::string(c.field) == "beta" && std::isfinite(c.gamma)) {
+      if (std::string(c.field) == "beta" && finite) {
         // "... >= (gamma + 1/2)^2 / 4 = <bound> for gamma ..."
         const std::string key = "/ 4 = ";
         const std::size_t at = message.find(key);

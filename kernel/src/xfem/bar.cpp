@@ -158,13 +158,20 @@ BuildResult validate_bar(const BarDesc& d) {
                                   static_cast<int>(i.behaviour));
   }
   if (!positive_finite(d.dt)) return fail("dt: must be a positive finite time step (s), got %g", d.dt);
-  if (!std::isfinite(d.gamma) || d.gamma < 0.5)
-    return fail("gamma: Newmark gamma must be >= 1/2 (stability), got %g", d.gamma);
+  // A non-finite β or γ is bad input; a finite one past the stability boundary
+  // is a scheme no time step makes stable for a stiff enough mode (a penalty or
+  // a sliver cut has one): unstable_time_step, as the DEM's limit is. Printed in
+  // full, so a value a hair past the bound does not read as the bound.
+  if (!std::isfinite(d.gamma)) return fail("gamma: Newmark gamma must be finite, got %g", d.gamma);
+  if (!std::isfinite(d.beta)) return fail("beta: Newmark beta must be finite, got %g", d.beta);
+  if (d.gamma < 0.5)
+    return BuildResult::failure(Code::unstable_time_step,
+                                "gamma: Newmark gamma must be >= 1/2 (stability), got %.17g", d.gamma);
   const xfem::NewmarkScheme scheme{d.beta, d.gamma, d.dt};
   if (!scheme.unconditionally_stable())
     return BuildResult::failure(Code::unstable_time_step,
-                                "beta: Newmark beta must be >= (gamma + 1/2)^2 / 4 = %.17g for gamma = %g "
-                                "(unconditional stability), got %g",
+                                "beta: Newmark beta must be >= (gamma + 1/2)^2 / 4 = %.17g for gamma = %.17g "
+                                "(unconditional stability), got %.17g",
                                 0.25 * (d.gamma + 0.5) * (d.gamma + 0.5), d.gamma, d.beta);
   switch (d.tip_load) {
     case BarDesc::TipLoad::none:
