@@ -30,16 +30,21 @@ BarDesc rod(int elements, bool fem, bool unilateral) {
   return d;
 }
 
+/// Builds `d` into (m, st, ws); on failure the benchmark is skipped with an error.
+bool build_or_skip(benchmark::State& bench, const BarDesc& d, xfdem::BarModel& m, xfdem::BarState& st,
+                   xfdem::BarWorkspace& ws) {
+  if (xfdem::build_bar(d, m, st, ws).ok()) return true;
+  bench.SkipWithError("build failed");
+  return false;
+}
+
 // Args: elements, fem (0/1), unilateral (0/1).
 void BM_BarStep(benchmark::State& bench) {
   const BarDesc d = rod(static_cast<int>(bench.range(0)), bench.range(1) != 0, bench.range(2) != 0);
   xfdem::BarModel m;
   xfdem::BarState st;
   xfdem::BarWorkspace ws;
-  if (!xfdem::build_bar(d, m, st, ws).ok()) {
-    bench.SkipWithError("build failed");
-    return;
-  }
+  if (!build_or_skip(bench, d, m, st, ws)) return;
   for (int i = 0; i < 1000; ++i) xfdem::bar_step(m, st, ws);
   const xfdem::BarState warm = st;
   long steps = 0;
@@ -64,15 +69,6 @@ void BM_BarBuild(benchmark::State& bench) {
   for (auto _ : bench) benchmark::DoNotOptimize(xfdem::build_bar(d, m, st, ws));
 }
 
-void arguments(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"elements", "fem", "unilateral"});
-  for (int n : {30, 300, 3000})
-    for (int fem : {0, 1})
-      for (int uni : {0, 1}) b->Args({n, fem, uni});
-}
-
-}  // namespace
-
 // One step of a unilateral interface under Newmark (¼, ½) that locates an
 // interface event (range(1) = 1: the step is split where the gap is zero, each
 // substep shorter than Δt refactoring its effective matrix) against a plain step
@@ -87,10 +83,7 @@ void BM_BarEventStep(benchmark::State& bench) {
   xfdem::BarModel m;
   xfdem::BarState st;
   xfdem::BarWorkspace ws;
-  if (!xfdem::build_bar(d, m, st, ws).ok()) {
-    bench.SkipWithError("build failed");
-    return;
-  }
+  if (!build_or_skip(bench, d, m, st, ws)) return;
   // The state before the first step of the wanted kind.
   xfdem::BarState start = st;
   bool found = false;
@@ -113,6 +106,15 @@ void BM_BarEventStep(benchmark::State& bench) {
   bench.counters["factorisations"] = ws.last_factorisations;
   bench.SetItemsProcessed(bench.iterations());
 }
+
+void arguments(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"elements", "fem", "unilateral"});
+  for (int n : {30, 300, 3000})
+    for (int fem : {0, 1})
+      for (int uni : {0, 1}) b->Args({n, fem, uni});
+}
+
+}  // namespace
 
 BENCHMARK(BM_BarStep)->Apply(arguments);
 BENCHMARK(BM_BarEventStep)->ArgsProduct({{30, 300, 3000}, {0, 1}});

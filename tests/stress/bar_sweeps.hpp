@@ -247,6 +247,7 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
     const double g1 = bar_interface_gap(m, st);
     const std::int32_t closed1 = st.interface_closed;
     if (closed1 != closed0) ++o.switches;
+    double e = 0, ehat = 0;  // this step's energy, and the algorithmic energy the identity carries on from
     if (ws.last_events > 0) {
       // Split at interface events into trapezoidal substeps, each of a linear
       // system: [E] = F·[u_tip] − (the dashpot's Σ c h v̄² ≥ 0) exactly, with
@@ -254,7 +255,8 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
       // not apply; the step is checked against that instead and the identity
       // carried on from its end (what the dashpot took is booked as D).
       ++o.split_steps;
-      const double e = energy();
+      e = energy();
+      ehat = e;
       if (!std::isfinite(e)) {
         o.finite = false;
         break;
@@ -267,43 +269,34 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
         work += tip_work;
         sum_d += tip_work - (e - ehat_prev);
       }
-      available = std::max(available, e0 + work);
-      peak = std::max(peak, e);
-      if (s == StepStatus::ok) worst_excess = std::max(worst_excess, e - ehat0 - work);
-      worst_identity = std::max(worst_identity, std::abs(e - ehat0 - work - sum_r + sum_d));
-      u0 = st.u;
-      v0 = st.v;
-      a0 = st.a;
-      f0 = f1;
-      g0 = g1;
-      closed0 = closed1;
-      ehat_prev = e;
-      continue;
-    }
-    for (std::size_t j = 0; j < n; ++j) {
-      du[j] = st.u[j] - u0[j];
-      da[j] = st.a[j] - a0[j];
-    }
-    // Work of the tip load and of the base dashpot, with the scheme's weights.
-    work += du[tip] * ((1 - gamma) * f0 + gamma * f1);
-    if (m.base_dof >= 0) {
-      const auto b = static_cast<std::size_t>(m.base_dof);
-      work -= c * du[b] * ((1 - gamma) * v0[b] + gamma * st.v[b]);
-    }
-    // Switching term and numerical dissipation of this step.
-    const double r0 = interface_force(g0, closed0), r1 = interface_force(g1, closed1);
-    const double rstep = 0.5 * (r1 * g1 - r0 * g0) - (g1 - g0) * 0.5 * (r0 + r1);
-    const double dstep = gamma == 0.5 ? 0.0
-                                      : (gamma - 0.5) * (m.stiffness.quadratic(du.data()) + (g1 - g0) * (r1 - r0) +
-                                                         dt * dt * (beta - 0.5 * gamma) * m.mass.quadratic(da.data()));
-    sum_r += rstep;
-    sum_d += dstep;
-    gain += std::max(rstep, 0.0);
+    } else {
+      for (std::size_t j = 0; j < n; ++j) {
+        du[j] = st.u[j] - u0[j];
+        da[j] = st.a[j] - a0[j];
+      }
+      // Work of the tip load and of the base dashpot, with the scheme's weights.
+      work += du[tip] * ((1 - gamma) * f0 + gamma * f1);
+      if (m.base_dof >= 0) {
+        const auto b = static_cast<std::size_t>(m.base_dof);
+        work -= c * du[b] * ((1 - gamma) * v0[b] + gamma * st.v[b]);
+      }
+      // Switching term and numerical dissipation of this step.
+      const double r0 = interface_force(g0, closed0), r1 = interface_force(g1, closed1);
+      const double rstep = 0.5 * (r1 * g1 - r0 * g0) - (g1 - g0) * 0.5 * (r0 + r1);
+      const double dstep =
+          gamma == 0.5 ? 0.0
+                       : (gamma - 0.5) * (m.stiffness.quadratic(du.data()) + (g1 - g0) * (r1 - r0) +
+                                          dt * dt * (beta - 0.5 * gamma) * m.mass.quadratic(da.data()));
+      sum_r += rstep;
+      sum_d += dstep;
+      gain += std::max(rstep, 0.0);
 
-    const double e = energy(), ehat = e + algorithmic_term();
-    if (!std::isfinite(e) || !std::isfinite(ehat)) {
-      o.finite = false;
-      break;
+      e = energy();
+      ehat = e + algorithmic_term();
+      if (!std::isfinite(e) || !std::isfinite(ehat)) {
+        o.finite = false;
+        break;
+      }
     }
     available = std::max(available, e0 + work);
     peak = std::max(peak, e);

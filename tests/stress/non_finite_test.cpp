@@ -188,17 +188,25 @@ bool pair_touches(const DemModel<D>& m, const DemState<D>& s, std::int32_t c) {
 
 bool is_pair_cache(const Target& t) { return t.name == "pair_stiffness" || t.name == "pair_eta"; }
 
+/// What every DEM case shares: gravity along the last axis, ζ = 0.1,
+/// `integrator` at step `dt`, and external forces on (an input to poison).
+template <int D>
+DemDesc<D> falling(DemIntegrator integrator, double dt) {
+  DemDesc<D> d;
+  d.gravity[D - 1] = -9.81;
+  d.damping_ratio = 0.1;
+  d.integrator = integrator;
+  d.dt = dt;
+  d.external_forces = true;
+  return d;
+}
+
 /// A column of four rods on a floor (1D): 0 rests on the floor, 1 and 2 are
 /// stacked on it (the pairs 0–1 and 1–2 touch), 3 falls from above (its pairs
 /// do not touch); a ceiling nobody touches. Damped, with gravity and external
 /// forces.
 DemDesc<1> column_1d(DemIntegrator integrator) {
-  DemDesc<1> d;
-  d.gravity = {-9.81};
-  d.damping_ratio = 0.1;
-  d.integrator = integrator;
-  d.dt = 1e-4;
-  d.external_forces = true;
+  DemDesc<1> d = falling<1>(integrator, 1e-4);
   d.particles = {{1.0, 0.1, 1e4, {0.099}, {0.05}},
                  {1.2, 0.1, 1e4, {0.297}, {-0.1}},
                  {0.8, 0.1, 2e4, {0.495}, {0.02}},
@@ -210,12 +218,7 @@ DemDesc<1> column_1d(DemIntegrator integrator) {
 /// Five spheres (3D, all pairs): three touching on the floor, two in flight;
 /// walls nobody touches, one of them oblique.
 DemDesc<3> cluster_3d(DemIntegrator integrator) {
-  DemDesc<3> d;
-  d.gravity = {0.0, 0.0, -9.81};
-  d.damping_ratio = 0.1;
-  d.integrator = integrator;
-  d.dt = 1e-4;
-  d.external_forces = true;
+  DemDesc<3> d = falling<3>(integrator, 1e-4);
   d.particles = {{1.0, 0.1, 1e4, {0.0, 0.0, 0.099}, {0.01, 0.0, 0.0}},
                  {1.0, 0.1, 1e4, {0.198, 0.0, 0.099}, {-0.02, 0.01, 0.0}},
                  {0.5, 0.1, 1e4, {0.099, 0.0, 0.27}, {0.0, 0.0, -0.05}},
@@ -232,12 +235,7 @@ DemDesc<3> cluster_3d(DemIntegrator integrator) {
 /// not touching). Split into two parts from 4 particles on: particle 0 is in
 /// part 0, the last one in part 1.
 DemDesc<3> lattice_3d(DemIntegrator integrator) {
-  DemDesc<3> d;
-  d.gravity = {0.0, 0.0, -9.81};
-  d.damping_ratio = 0.1;
-  d.integrator = integrator;
-  d.dt = 2e-5;
-  d.external_forces = true;
+  DemDesc<3> d = falling<3>(integrator, 2e-5);
   d.split_from = 4;
   const double r = 0.01, pitch = 0.0198, apart = 0.0203;
   std::uint64_t seed = 0x5eedull;

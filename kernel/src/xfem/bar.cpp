@@ -428,9 +428,10 @@ void restore_start(BarState& st, const BarWorkspace& ws) {
 
 /// One Newmark substep of length h ending at t_end, from the state in `st`,
 /// with the active set `closed` held. A substep of the model's Δt uses the
-/// factor the build made; any other length factors its own.
+/// factor the build made; any other length factors its own. `net_force`
+/// receives 1ᵀMa at its start and end (see book_impulse()).
 StepStatus held_substep(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force, std::int32_t closed,
-                        double t_end, double h) {
+                        double t_end, double h, double net_force[2]) {
   const xfem::NewmarkScheme scheme{m.scheme.beta, m.scheme.gamma, h};
   const xfem::BandLdlt* factor = closed != 0 ? &m.effective_closed : &m.effective_open;
   if (h != m.scheme.dt) {
@@ -442,20 +443,14 @@ StepStatus held_substep(const BarModel& m, BarState& st, BarWorkspace& ws, doubl
   std::int32_t held = closed;
   const detail::BarOperator op(m, ws, tip_force, held, *factor);
   return xfem::newmark_step(scheme, op, t_end, st.u.data(), st.v.data(), st.a.data(), ws.u_pred.data(),
-                            ws.v_pred.data());
+                            ws.v_pred.data(), m.mass_row_sums.data(), net_force);
 }
 
-/// 1ᵀM a: the net force on the bar that gives it acceleration a.
-double net_force(const BarModel& m, const double* a) {
-  double f = 0.0;
-  for (int i = 0; i < m.dofs; ++i) f += m.mass_row_sums[static_cast<std::size_t>(i)] * a[i];
-  return f;
-}
-
-/// Books a Newmark (sub)step of length h from acceleration a_start to a_end:
-/// its momentum identity 1ᵀM(v_end − v_start) = h[(1 − γ) 1ᵀM a_start + γ 1ᵀM a_end].
-void book_impulse(const BarModel& m, BarWorkspace& ws, double h, const double* a_start, const double* a_end) {
-  ws.last_external_impulse += h * ((1.0 - m.scheme.gamma) * net_force(m, a_start) + m.scheme.gamma * net_force(m, a_end));
+/// Books a Newmark (sub)step of length h whose net force 1ᵀMa was net_force[0]
+/// at its start and net_force[1] at its end: its momentum identity
+/// 1ᵀM(v_end − v_start) = h[(1 − γ) 1ᵀM a_start + γ 1ᵀM a_end].
+void book_impulse(const BarModel& m, BarWorkspace& ws, double h, const double net_force[2]) {
+  ws.last_external_impulse += h * ((1.0 - m.scheme.gamma) * net_force[0] + m.scheme.gamma * net_force[1]);
 }
 
 /// Σ |terms of the gap|: the size of the numbers whose difference is the gap,
@@ -481,15 +476,18 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
   constexpr int kMaxIterations = 100;  // Illinois converges superlinearly; this only bounds the loop
   StepStatus status = StepStatus::ok;
   double t = t_n;
+  // 1ᵀMa at the start and end of the latest substep taken: the committed
+  // substep is always the latest one when it is booked.
+  double net_force[2] = {0.0, 0.0};
   for (;;) {
     const std::int32_t closed = st.interface_closed;
     const double h_rest = t_next - t;
     save_start(st, ws);
     const double g_start = detail::bar_gap_of(m, st.u.data());
-    status |= held_substep(m, st, ws, tip_force, closed, t_next, h_rest);
+    status |= held_substep(m, st, ws, tip_force, closed, t_next, h_rest, net_force);
     const double g_end = detail::bar_gap_of(m, st.u.data());
     if (agrees(closed, g_end) || !std::isfinite(g_end) || has(status, StepStatus::non_finite)) {
-      book_impulse(m, ws, h_rest, ws.a_start.data(), st.a.data());
+      book_impulse(m, ws, h_rest, net_force);
       return status;
     }
     if (ws.last_events == m.desc.max_interface_events) {
@@ -498,8 +496,8 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
       // switched, so the other set agrees with the end it gives).
       restore_start(st, ws);
       st.interface_closed = closed == 0 ? 1 : 0;
-      status |= held_substep(m, st, ws, tip_force, st.interface_closed, t_next, h_rest);
-      book_impulse(m, ws, h_rest, ws.a_start.data(), st.a.data());
+      status |= held_substep(m, st, ws, tip_force, st.interface_closed, t_next, h_rest, net_force);
+      book_impulse(m, ws, h_rest, net_force);
       return status | StepStatus::active_set_not_converged;
     }
 
@@ -518,7 +516,7 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
       double theta = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
       if (!(theta > lo && theta < hi)) theta = 0.5 * (lo + hi);
       restore_start(st, ws);
-      status |= held_substep(m, st, ws, tip_force, closed, t + theta * h_rest, theta * h_rest);
+      status |= held_substep(m, st, ws, tip_force, closed, t + theta * h_rest, theta * h_rest, net_force);
       at = theta;
       const double g = detail::bar_gap_of(m, st.u.data());
       if (!std::isfinite(g)) return status | StepStatus::non_finite;
@@ -538,9 +536,9 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     const double t_event = hi == 1.0 ? t_next : t + hi * h_rest;
     if (at != hi) {
       restore_start(st, ws);
-      status |= held_substep(m, st, ws, tip_force, closed, t_event, hi * h_rest);
+      status |= held_substep(m, st, ws, tip_force, closed, t_event, hi * h_rest, net_force);
     }
-    book_impulse(m, ws, hi * h_rest, ws.a_start.data(), st.a.data());
+    book_impulse(m, ws, hi * h_rest, net_force);
     // The switch puts ½k g² into the energy (closing) or takes it out (opening).
     // Where the crossing could not be found that closely (a gap moving too fast
     // for the floating-point resolution of the step, e.g. a sliver's phantom
@@ -582,11 +580,12 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   workspace.last_external_impulse = 0.0;
   const double t_n = static_cast<double>(state.step) * model.scheme.dt;
   const std::int32_t closed_before = state.interface_closed;
-  const double net_force_start = net_force(model, state.a.data());
   if (locates_interface_events(model)) save_start(state, workspace);
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
+  double net_force[2];  // 1ᵀMa at t_n and t_{n+1}
   StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
-                                    workspace.u_pred.data(), workspace.v_pred.data());
+                                    workspace.u_pred.data(), workspace.v_pred.data(), model.mass_row_sums.data(),
+                                    net_force);
   if (locates_interface_events(model) && state.interface_closed != closed_before &&
       !has(s, StepStatus::active_set_not_converged)) {
     // The set changed within the step: take it again, in substeps that end at the change.
@@ -594,9 +593,7 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
     state.interface_closed = closed_before;
     s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
   } else {
-    workspace.last_external_impulse =
-        model.scheme.dt * ((1.0 - model.scheme.gamma) * net_force_start +
-                           model.scheme.gamma * net_force(model, state.a.data()));
+    book_impulse(model, workspace, model.scheme.dt, net_force);
   }
   state.step += 1;
   state.time = t_next;

@@ -49,17 +49,23 @@ struct NewmarkScheme {
 ///                             const double* v_pred, double* k) const;
 ///   int size() const;
 /// u, v, a hold step n on entry and step n+1 on return; u_pred, v_pred are
-/// scratch of the same size. Returns what implicit_solve returned. No allocation.
+/// scratch of the same size. `weighted_a` receives Σ weights_i a_i of the
+/// acceleration the step starts from ([0]) and ends with ([1]), summed inside
+/// the predictor's and the corrector's loops (for weights M·1 it is the net
+/// force 1ᵀMa, whose Newmark average over the step is the momentum change).
+/// Returns what implicit_solve returned. No allocation.
 template <class System>
 StepStatus newmark_step(const NewmarkScheme& scheme, const System& system, double t_next, double* u, double* v,
-                        double* a, double* u_pred, double* v_pred) {
+                        double* a, double* u_pred, double* v_pred, const double* weights, double weighted_a[2]) {
   const int n = system.size();
   const double dt = scheme.dt;
   const double cu = (0.5 - scheme.beta) * dt * dt;
   const double cv = (1.0 - scheme.gamma) * dt;
+  double start = 0.0, end = 0.0;
   for (int i = 0; i < n; ++i) {
     u_pred[i] = u[i] + dt * v[i] + cu * a[i];
     v_pred[i] = v[i] + cv * a[i];
+    start += weights[i] * a[i];
   }
   const double fac0 = scheme.fac0();
   const double fac1 = scheme.fac1();
@@ -67,7 +73,10 @@ StepStatus newmark_step(const NewmarkScheme& scheme, const System& system, doubl
   for (int i = 0; i < n; ++i) {
     u[i] = u_pred[i] + fac0 * a[i];
     v[i] = v_pred[i] + fac1 * a[i];
+    end += weights[i] * a[i];
   }
+  weighted_a[0] = start;
+  weighted_a[1] = end;
   return status;
 }
 
