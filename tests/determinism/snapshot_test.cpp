@@ -247,7 +247,8 @@ TEST(Refusal, AnotherFormatVersionOrPrecision) {
     std::memcpy(bytes.data() + 56, &sum, 8);
     return bytes;
   };
-  expect_refused(sc, rewrite(8, std::byte{2}), SnapshotStatus::unsupported_version, "format version 2");
+  expect_refused(sc, rewrite(8, std::byte{kSnapshotVersion + 1}), SnapshotStatus::unsupported_version,
+                 "format version " + std::to_string(kSnapshotVersion + 1));
   expect_refused(sc, rewrite(20, std::byte{4}), SnapshotStatus::foreign_precision, "4-byte reals");
   Bytes swapped = saved.bytes;
   const std::uint32_t tag = 0x04030201u;

@@ -34,11 +34,14 @@ double omega_c(const CoupledDesc& d) {
 // Both dissipate (contact dashpot, γ > 1/2) and the exchange conserves energy
 // at its fixed point: the energy never rises above E0 but for round-off.
 constexpr double kEpsilon = 1e-12;
+// The kernel's own check at every step, at the same bound: it must never trip
+// where the energy stays within it.
+constexpr EnergyCheck kTightCheck{1, kEpsilon};
 
 TEST(CoupledStress, MassRatioOverSixDecadesAtTheScenesStep) {
   for (double ratio : {1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3}) {
     const CoupledDesc d = dropped(ratio);
-    const Outcome checked = run_coupled_case(d, kSteps, true);
+    const Outcome checked = run_coupled_case(d, kSteps, true, kTightCheck);
     const Outcome o = run_coupled_case(d, kSteps, false);
     std::printf("m_p/m_top %-6g omega_c*dt %.3f: build %s; flags %-40s max (E-E0)/A %.2e\n", ratio,
                 omega_c(d) * d.bar.dt, checked.built ? "ok     " : "refused", flag_text(o.flags).c_str(),
@@ -63,7 +66,7 @@ TEST(CoupledStress, MassRatioOverSixDecadesAtAStableStep) {
   for (double ratio : {1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3}) {
     CoupledDesc d = dropped(ratio);
     d.bar.dt = 0.5 / omega_c(d);
-    const Outcome o = run_coupled_case(d, kSteps, true);
+    const Outcome o = run_coupled_case(d, kSteps, true, kTightCheck);
     std::printf("m_p/m_top %-6g dt %.3g: flags %-20s max (E-E0)/A %.2e\n", ratio, d.bar.dt, flag_text(o.flags).c_str(),
                 o.worst_excess);
     SCOPED_TRACE("mass ratio " + std::to_string(ratio));
@@ -84,7 +87,7 @@ TEST(CoupledStress, InterfaceCutDownToABillionthOfAnElement) {
     CoupledDesc d = dropped(0.25);  // Case I's 100 kg
     const double h = d.bar.length / d.bar.elements;
     d.bar.interface->position = 14 * h + cut * h;
-    const Outcome o = run_coupled_case(d, kSteps, true);
+    const Outcome o = run_coupled_case(d, kSteps, true, kTightCheck);
     std::printf("cut fraction %-9g: flags %-20s max (E-E0)/A %.2e\n", cut, flag_text(o.flags).c_str(), o.worst_excess);
     SCOPED_TRACE("cut fraction " + std::to_string(cut));
     ASSERT_TRUE(o.built) << o.build_message;
@@ -93,18 +96,20 @@ TEST(CoupledStress, InterfaceCutDownToABillionthOfAnElement) {
   }
 }
 
-// Known defect, found by this suite and not yet fixed: with the interface 1e-9
-// of an element from a node, the particle exchange's re-evaluation of the
-// bar's acceleration (M a = f − C v − K u, once per window) drives the phantom
-// value of the sliver's side to velocities of 1e10 m/s: the tip, the gap and
-// the particle stay exactly those of the 1e-7 cut, but ½vᵀMv of the state
-// reaches 1e10 J with no flag raised. Run with --gtest_also_run_disabled_tests.
-TEST(CoupledStress, DISABLED_InterfaceCutOfABillionthKeepsTheStateBounded) {
+// Known defect, found by this suite and not fixed: with the interface 1e-9 of
+// an element from a node, the particle exchange's re-evaluation of the bar's
+// acceleration (M a = f − C v − K u, once per window) drives the phantom value
+// of the sliver's side to velocities of 1e10 m/s: the tip, the gap and the
+// particle stay exactly those of the 1e-7 cut, but ½vᵀMv of the state reaches
+// 1e10 J. The energy check reports it, with its default settings.
+TEST(CoupledStress, InterfaceCutOfABillionthIsReported) {
   CoupledDesc d = dropped(0.25);
   const double h = d.bar.length / d.bar.elements;
   d.bar.interface->position = 14 * h + 1e-9 * h;
   const Outcome o = run_coupled_case(d, kSteps, true);
-  EXPECT_TRUE(o.reported() || o.worst_excess <= kEpsilon) << "max (E-E0)/A " << o.worst_excess;
+  std::printf("cut fraction 1e-9: flags %s (first at step %lld)\n", flag_text(o.flags).c_str(),
+              static_cast<long long>(o.first_flag_step));
+  EXPECT_TRUE(has(o.flags, StepStatus::energy_growth)) << flag_text(o.flags);
 }
 
 }  // namespace

@@ -31,6 +31,7 @@ struct Outcome {
   std::int64_t steps = 0;             ///< steps taken
   double available = 0;        ///< A: the energy scale of the case (J)
   double worst_excess = 0;     ///< max over unflagged steps of (E − E0 − W)/A
+  double peak_motion = 0;      ///< max over the run of (kinetic + elastic)/A (particle cases)
   bool finite = true;          ///< every energy along the run was finite
 
   [[nodiscard]] bool reported() const { return !built || flags != StepStatus::ok; }
@@ -126,12 +127,14 @@ inline double column_network_omega(const DemDesc<1>& d) {
   return std::sqrt(*std::max_element(row.begin(), row.end()));
 }
 
-/// Runs a particle case at time step dt for `steps` steps.
-inline Outcome run_dem_case(DemDesc<1> d, double dt, std::int64_t steps) {
+/// Runs a particle case at time step dt for `steps` steps, with the kernel's
+/// energy check as `check` says.
+inline Outcome run_dem_case(DemDesc<1> d, double dt, std::int64_t steps, const EnergyCheck& check = {}) {
   Outcome o;
   DemWorld<1> w;
   d.dt = dt;
   d.reject_unstable_dt = false;
+  d.energy_check = check;
   const BuildResult r = w.build(d);
   if (!r.ok()) {
     o.built = false;
@@ -141,7 +144,11 @@ inline Outcome run_dem_case(DemDesc<1> d, double dt, std::int64_t steps) {
   const double e0 = dem_total(dem_energy(w.model, w.state));
   o.available = e0 - column_rest_energy(d);
   run_case(o, steps, [&] { return w.step(); },
-           [&] { return (dem_total(dem_energy(w.model, w.state)) - e0) / o.available; });
+           [&] {
+             const DemEnergy e = dem_energy(w.model, w.state);
+             o.peak_motion = std::max(o.peak_motion, (e.kinetic + e.elastic) / o.available);
+             return (dem_total(e) - e0) / o.available;
+           });
   return o;
 }
 
@@ -163,9 +170,11 @@ inline double coupled_rest_energy(const CoupledDesc& d) {
   return 0.5 * F * F * (compliance + 1.0 / p.stiffness) + p.mass * g * centre;
 }
 
-/// Runs a coupled case (one particle dropped on the bar) for `steps` steps.
-inline Outcome run_coupled_case(CoupledDesc d, std::int64_t steps, bool reject) {
+/// Runs a coupled case (one particle dropped on the bar) for `steps` steps,
+/// with the kernel's energy check as `check` says.
+inline Outcome run_coupled_case(CoupledDesc d, std::int64_t steps, bool reject, const EnergyCheck& check = {}) {
   Outcome o;
+  d.energy_check = check;
   d.reject_unstable_coupling = reject;
   d.dem.reject_unstable_dt = reject;
   CoupledWorld w;

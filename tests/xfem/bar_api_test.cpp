@@ -146,8 +146,9 @@ TEST(BarApi, StateIsPlainDataThatReplays) {
     values += n;
     EXPECT_NE(std::strlen(name), 0u);
   });
-  EXPECT_EQ(fields, 6u);
-  EXPECT_EQ(values, 3u * static_cast<std::size_t>(m.dofs) + 3u);
+  // u, v, a; time, step, the active set; the tip input and the energy books.
+  EXPECT_EQ(fields, 12u);
+  EXPECT_EQ(values, 3u * static_cast<std::size_t>(m.dofs) + 9u);
   EXPECT_EQ(hash(st), hash(copy));
   EXPECT_EQ(st.step, 1000);
   EXPECT_EQ(st.time, 1000 * d.dt);

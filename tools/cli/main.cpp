@@ -103,6 +103,11 @@ int run(int argc, char** argv) {
                  "xfdem: warning: %lld steps past the stable time step (unstable_time_step, allowed by "
                  "dem.allow_unstable_dt): no energy bound holds (docs/stability.md)\n",
                  static_cast<long long>(summary.unstable_steps));
+  if (summary.first_energy_growth_step > 0)
+    std::fprintf(stderr,
+                 "xfdem: warning: from step %lld on the energy exceeded its start plus the work done by more than "
+                 "the energy check's tolerance (energy_growth): the method gained energy (docs/stability.md)\n",
+                 static_cast<long long>(summary.first_energy_growth_step));
   return 0;
 }
 

@@ -105,13 +105,8 @@ class BarSystem {
 /// Particles and a bar together (Case I, Case II).
 class CoupledSystem {
  public:
-  CoupledSystem(const Scene& scene, const DemDesc<1>& dem, const BarDesc& bar) {
-    CoupledDesc desc;
-    desc.dem = dem;
-    desc.bar = bar;
-    desc.dem_substeps = scene.dem_substeps;
-    desc.reject_unstable_coupling = !dem.reject_unstable_dt ? false : true;
-    const BuildResult built = world_.build(desc);
+  explicit CoupledSystem(const Scene& scene) {
+    const BuildResult built = world_.build(coupled_desc(scene));
     world_.workspace.clock_ns = &platform::monotonic_ns;
     if (!built.ok()) {
       const std::string message = built.message;
@@ -180,7 +175,9 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
     const StepStatus raw = system.step();
     worst = std::max(worst, platform::monotonic_ns() - t0);
     if (has(raw, StepStatus::unstable_time_step)) ++summary.unstable_steps;
-    const StepStatus status = without(raw, acknowledged);
+    if (has(raw, StepStatus::energy_growth) && summary.first_energy_growth_step == 0)
+      summary.first_energy_growth_step = step;
+    const StepStatus status = without(raw, acknowledged | StepStatus::energy_growth);
     if (status != StepStatus::ok) {
       char text[200];
       char message[400];
@@ -215,7 +212,7 @@ RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads == 2) pool.emplace();
   const ParallelFor parallel = pool ? pool->parallel_for() : ParallelFor{};
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
-    CoupledSystem system(scene, std::get<DemDesc<1>>(scene.dem), *scene.bar);
+    CoupledSystem system(scene);
     return run_system(scene, system, csv);
   }
   if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel);

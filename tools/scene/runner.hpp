@@ -19,12 +19,15 @@ struct RunSummary {
   /// Steps past the stated stable limit (unstable_time_step), carried on past
   /// because the scene set dem.allow_unstable_dt.
   std::int64_t unstable_steps = 0;
+  /// The first step that said energy_growth (0: none). The run carries on past
+  /// it (the flag stays up from there on) and the CLI warns.
+  std::int64_t first_energy_growth_step = 0;
 };
 
 /// Builds the scene's models, steps to time.end, writes the header and one row
 /// per output.every to `csv`. Throws SceneError on a build failure (message
 /// names the field) and on a step status other than ok (message names the flag
-/// and the step).
+/// and the step), but for energy_growth, which it books in the summary.
 RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads = 1);
 
 }  // namespace xfdem::scene

@@ -166,12 +166,20 @@ Scene parse_scene(const Json& document) {
     if (scene.steps < 1) time.fail("end", "must be a whole multiple of time.dt");
     if (scene.steps > 4'000'000'000LL) time.fail("end", "needs more than 4e9 steps");
   }
+  if (top.has("energy_check")) {
+    ObjectReader check = top.object("energy_check");
+    scene.energy_check.interval =
+        static_cast<int>(check.integer_or("interval", scene.energy_check.interval, 0, 1'000'000'000));
+    scene.energy_check.tolerance = check.real_or("tolerance", scene.energy_check.tolerance, kPositive);
+    check.finish();
+  }
   scene.has_continuum = top.has("continuum");
   if (scene.has_continuum) {
     if (scene.dimension != 1)
       throw SceneError("scene key 'dimension': a continuum (bar) scene must have dimension 1");
     ObjectReader continuum = top.object("continuum");
     scene.bar = parse_continuum(continuum, scene.dt);
+    scene.bar->energy_check = scene.energy_check;
   } else if (scene.dem_substeps != 1) {
     throw SceneError("scene key 'time.dem_substeps': must be 1 (or absent) in a scene without a continuum");
   }
@@ -187,6 +195,11 @@ Scene parse_scene(const Json& document) {
       default: scene.dem = parse_dem<3>(dem, scene, scene.particle_names, plane_names); break;
     }
     dem.finish();
+    std::visit(
+        [&](auto& desc) {
+          if constexpr (!std::is_same_v<std::decay_t<decltype(desc)>, std::monostate>) desc.energy_check = scene.energy_check;
+        },
+        scene.dem);
   }
 
   auto particle_index = [&](const std::string& name) {
@@ -270,6 +283,16 @@ Scene parse_scene(const Json& document) {
   if (std::holds_alternative<std::monostate>(scene.dem) && !scene.has_continuum)
     throw SceneError("scene: has neither a 'dem' nor a 'continuum' block; nothing to simulate");
   return scene;
+}
+
+CoupledDesc coupled_desc(const Scene& scene) {
+  CoupledDesc desc;
+  desc.dem = std::get<DemDesc<1>>(scene.dem);
+  desc.bar = *scene.bar;
+  desc.dem_substeps = scene.dem_substeps;
+  desc.reject_unstable_coupling = desc.dem.reject_unstable_dt;
+  desc.energy_check = scene.energy_check;
+  return desc;
 }
 
 StepStatus acknowledged_flags(const Scene& scene) {

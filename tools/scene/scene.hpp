@@ -9,6 +9,7 @@
 
 #include "scene/json_reader.hpp"
 #include "xfdem/bar.hpp"
+#include "xfdem/coupled.hpp"
 #include "xfdem/dem.hpp"
 
 namespace xfdem::scene {
@@ -54,7 +55,12 @@ struct Scene {
   /// The continuum (a bar: 1D only).
   std::optional<BarDesc> bar;
   std::vector<Probe> probes;
+  /// The steppers' energy balance check (key `energy_check`, optional).
+  EnergyCheck energy_check;
 };
+
+/// The coupled stepper's description of a scene with particles and a bar.
+CoupledDesc coupled_desc(const Scene& scene);
 
 /// Step flags a run of this scene carries on past: unstable_time_step when the
 /// scene asked for it (dem.allow_unstable_dt), nothing otherwise.

@@ -39,13 +39,8 @@ struct SceneWorld::Impl {
 SceneWorld::SceneWorld(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   auto& world = impl_->world;
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
-    CoupledDesc desc;
-    desc.dem = std::get<DemDesc<1>>(scene.dem);
-    desc.bar = *scene.bar;
-    desc.dem_substeps = scene.dem_substeps;
-    desc.reject_unstable_coupling = desc.dem.reject_unstable_dt;
     auto& w = world.emplace<CoupledWorld>();
-    const BuildResult built = w.build(desc);
+    const BuildResult built = w.build(coupled_desc(scene));
     if (!built.ok()) refuse("", built);
   } else if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) {
     auto& w = world.emplace<DemWorld<1>>();

@@ -15,6 +15,7 @@
 #include <optional>
 #include <vector>
 
+#include "xfdem/energy_check.hpp"
 #include "xfdem/status.hpp"
 #include "xfdem/xfem/banded.hpp"
 #include "xfdem/xfem/newmark.hpp"
@@ -71,6 +72,8 @@ struct BarDesc {
   /// bar_step()). Beyond it the rest of the step keeps the last active set and
   /// reports active_set_not_converged.
   int max_interface_events = 64;
+  /// The energy balance check of bar_step(): Ê ≤ Ê0 + W (see BarState::energy).
+  EnergyCheck energy_check;
   /// Upper bound on the number of unknowns; 0 sizes everything to the mesh.
   /// A mesh needing more is a BuildResult::Code::capacity failure.
   int max_dofs = 0;
@@ -138,6 +141,14 @@ struct BarState {
   double time = 0.0;      ///< s, = step · dt
   std::int64_t step = 0;
   std::int32_t interface_closed = 0;  ///< 1 while the interface spring acts (always 1 when tied)
+  double tip_input = 0.0;  ///< BarInput::tip_force that `a` was solved with, N
+  /// The energy balance check's books, in the algorithmic energy
+  /// Ê = ½vᵀMv + ½uᵀKu (+ ½k g² while the interface acts) + ½Δt²(β − γ/2) aᵀMa,
+  /// which Newmark's scheme with β ≥ (γ + ½)²/4 never raises on a linear system
+  /// beyond the work done on it: W is the work of the tip load, of BarInput and
+  /// of the base's dashpot, with the scheme's weights (docs/stability.md).
+  EnergyLedger energy;
+  double input_work = 0.0;  ///< the part of energy.work that BarInput::tip_force did, J
 
   /// Calls visitor(name, pointer, count) for every field, in a fixed order.
   template <class Visitor>
@@ -148,6 +159,12 @@ struct BarState {
     visitor("time", &time, std::size_t{1});
     visitor("step", &step, std::size_t{1});
     visitor("interface_closed", &interface_closed, std::size_t{1});
+    visitor("tip_input", &tip_input, std::size_t{1});
+    visitor("input_work", &input_work, std::size_t{1});
+    visitor("energy_reference", &energy.reference, std::size_t{1});
+    visitor("energy_work", &energy.work, std::size_t{1});
+    visitor("energy_peak", &energy.peak, std::size_t{1});
+    visitor("energy_exceeded", &energy.exceeded, std::size_t{1});
   }
   template <class Visitor>
   void for_each_field(Visitor&& visitor) const {
@@ -157,6 +174,12 @@ struct BarState {
     visitor("time", &time, std::size_t{1});
     visitor("step", &step, std::size_t{1});
     visitor("interface_closed", &interface_closed, std::size_t{1});
+    visitor("tip_input", &tip_input, std::size_t{1});
+    visitor("input_work", &input_work, std::size_t{1});
+    visitor("energy_reference", &energy.reference, std::size_t{1});
+    visitor("energy_work", &energy.work, std::size_t{1});
+    visitor("energy_peak", &energy.peak, std::size_t{1});
+    visitor("energy_exceeded", &energy.exceeded, std::size_t{1});
   }
 };
 
@@ -201,7 +224,10 @@ BuildResult validate_bar(const BarDesc& desc);
 /// Newmark substep with the old active set), and the rest is taken with the new
 /// one, so each substep integrates a linear system and the energy bounds of
 /// docs/stability.md hold. A step without a change is exactly one Newmark step.
+/// Every EnergyCheck::interval steps the energy balance is checked (BarState::energy).
 /// Returns ok, or
+/// energy_growth (the check found Ê above Ê0 + W by more than its tolerance,
+/// at this step or an earlier one), or
 /// active_set_not_converged (step taken with the last active set, or more than
 /// max_interface_events located in it), or
 /// non_finite (step taken, the state holds the non-finite values), or
@@ -210,9 +236,21 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
 
 /// Recomputes state.a from the equation of motion at state.time
 /// (M a = f − C v − K u, interface active set from the current gap), with
-/// `input` as the extra tip force. Call after editing u or v. No allocation.
+/// `input` as the extra tip force, and restarts the energy ledger from the
+/// state as it is (an edit is not work the ledger could book). Call after
+/// editing u or v. No allocation.
 StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
                                     const BarInput& input = {});
+
+/// Re-solves state.a at state.time with `input` as the extra tip force and
+/// keeps the energy ledger: for a host that changes the force held over the
+/// coming step (the coupled stepper). The change of ½Δt²(β − γ/2) aᵀMa this
+/// makes is not booked as work (it is zero for β = ¼, γ = ½). No allocation.
+StepStatus bar_resolve_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
+                                    const BarInput& input);
+
+/// Starts new energy books at the state as it is (Ê0 = Ê, W = 0, not exceeded).
+void bar_restart_energy_ledger(const BarModel& model, BarState& state);
 
 /// The tip load of the description at time t, N.
 double bar_tip_load(const BarModel& model, double t);
@@ -233,5 +271,7 @@ struct BarEnergy {
   double elastic = 0.0;  ///< ½ uᵀ K u, J: elements, base spring, and the interface spring while it acts
 };
 BarEnergy bar_energy(const BarModel& model, const BarState& state);
+/// Ê = kinetic + elastic + ½Δt²(β − γ/2) aᵀMa: the energy the energy check books (J).
+double bar_algorithmic_energy(const BarModel& model, const BarState& state);
 
 }  // namespace xfdem

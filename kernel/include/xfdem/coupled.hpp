@@ -42,6 +42,10 @@ struct CoupledDesc {
   /// oscillator ω_c² = k (1/m_top + 1/m_particle), has ω_c·dt above
   /// kCoupledMaxOmegaDt or ω_c·dt/n above the particle integrator's stable step.
   bool reject_unstable_coupling = true;
+  /// The energy balance check of coupled_step(), on particles and bar together
+  /// (CoupledState::energy). It replaces the bar's own: bar.energy_check is
+  /// not used (the bar alone is an open system whose input the exchange sets).
+  EnergyCheck energy_check;
 };
 
 struct CoupledModel {
@@ -59,6 +63,7 @@ struct CoupledModel {
   /// stable step (built with reject_unstable_coupling off): every step says
   /// StepStatus::unstable_time_step.
   bool beyond_stable_step = false;
+  EnergyCheck energy_check;  ///< CoupledDesc::energy_check
 };
 
 /// Passes of one window at most while looking for the fixed point; a window
@@ -89,6 +94,11 @@ struct CoupledState {
   std::int32_t peak_passes = 0;
   std::int64_t step = 0;
   double time = 0;
+  /// The energy balance check's books: particles (kinetic, contacts, gravity)
+  /// plus the bar's algorithmic energy (BarState::energy), against the work of
+  /// the bar's tip load and base and of the particles' external forces. The
+  /// exchange is internal: at its fixed point it does no net work.
+  EnergyLedger energy;
 };
 
 /// Time per stage of coupled steps while the host has installed a clock.
@@ -119,8 +129,12 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& model, CoupledS
 
 /// One continuum step and its particle substeps. Never allocates. Flags:
 /// whatever the halves return, plus coupling_unstable when the window's
-/// fixed point was not reached in kCoupledMaxPasses passes (the step is taken).
+/// fixed point was not reached in kCoupledMaxPasses passes (the step is taken),
+/// and energy_growth from the energy balance check (CoupledDesc::energy_check).
 StepStatus coupled_step(const CoupledModel& model, CoupledState& state, CoupledWorkspace& workspace);
+
+/// Starts new energy books at the state as it is: call after editing the state.
+void coupled_restart_energy_ledger(const CoupledModel& model, CoupledState& state);
 
 /// Force of particle i on the bar's top, compressive positive (N).
 double coupled_top_force(const CoupledModel& model, const CoupledState& state, std::int32_t particle);

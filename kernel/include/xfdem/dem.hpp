@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "xfdem/energy_check.hpp"
 #include "xfdem/parallel.hpp"
 #include "xfdem/status.hpp"
 
@@ -112,6 +113,8 @@ struct DemDesc {
   /// Refuse to build when dt exceeds the integrator's stable step for the
   /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
   bool reject_unstable_dt = true;
+  /// The energy balance check of dem_step() (DemState::energy).
+  EnergyCheck energy_check;
 };
 
 /// Features resolved once at build: the stepper and its kernels skip what a
@@ -173,6 +176,7 @@ struct DemModel {
   /// interval start decides; abm4_events only).
   AccelerationKernel<D> accelerations = nullptr;
   AccelerationKernel<D> accelerations_frozen = nullptr;
+  EnergyCheck energy_check;  ///< DemDesc::energy_check
 };
 
 /// Everything a step changes. Plain data: copying it is a snapshot.
@@ -225,6 +229,13 @@ struct DemState {
   /// a step with dt²·network_omega2 past the stable factor² says
   /// StepStatus::unstable_time_step.
   double network_omega2 = 0;
+  /// The energy balance check's books: kinetic, contacts' ½Kδ² (pairs from the
+  /// pair list, planes) and gravity's −m g·x, against the work of the external
+  /// forces (F·Δx, F held over a step) and of moving planes (speed × the
+  /// impulse they gave, and what dem_drive_plane() puts into the contacts when
+  /// it moves one). The dashpots only take energy out. After editing x or v,
+  /// restart them (dem_restart_energy_ledger).
+  EnergyLedger energy;
 
   template <class Visitor>
   void for_each_array(Visitor&& visit);
@@ -280,7 +291,9 @@ struct DemWorkspace {
 template <int D>
 BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
 
-/// Advances the particles by model.dt. Never allocates, throws or locks.
+/// Advances the particles by model.dt. Never allocates, throws or locks. Every
+/// EnergyCheck::interval steps the energy balance is checked (DemState::energy):
+/// energy_growth from the check that finds it broken on.
 template <int D>
 StepStatus dem_step(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
 
@@ -290,9 +303,15 @@ StepStatus dem_step(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D
 /// step). If a particle touches the plane now, the force at the current state
 /// changes with the plane's speed, so the stored acceleration is re-evaluated at
 /// the next step and a multistep history restarts (three RK4 steps); otherwise
-/// nothing else changes. Allocation-free.
+/// nothing else changes. A move of the plane's position changes the energy of
+/// its contacts: the energy check books that as work done by the host (O(n)
+/// when the check is on). Allocation-free.
 template <int D>
 void dem_drive_plane(const DemModel<D>& model, DemState<D>& state, std::int32_t plane, double offset, double speed);
+
+/// Starts new energy books at the state as it is (not exceeded). No allocation.
+template <int D>
+void dem_restart_energy_ledger(const DemModel<D>& model, DemState<D>& state);
 
 /// Tells the stepper that inputs it holds over a step (external forces) were
 /// changed: the stored acceleration is re-evaluated at the next step and a
@@ -376,6 +395,10 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   visit("peak_events", &peak_events, 1);
   visit("events_located", &events_located, 1);
   visit("network_omega2", &network_omega2, 1);
+  visit("energy_reference", &energy.reference, 1);
+  visit("energy_work", &energy.work, 1);
+  visit("energy_peak", &energy.peak, 1);
+  visit("energy_exceeded", &energy.exceeded, 1);
 }
 
 }  // namespace xfdem

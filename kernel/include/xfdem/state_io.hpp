@@ -65,6 +65,10 @@ void for_each_field(CoupledState& state, Visitor&& visit) {
   visit("", "impulse_to_bar", &state.impulse_to_bar, std::size_t{1});
   visit("", "last_passes", &state.last_passes, std::size_t{1});
   visit("", "peak_passes", &state.peak_passes, std::size_t{1});
+  visit("", "energy_reference", &state.energy.reference, std::size_t{1});
+  visit("", "energy_work", &state.energy.work, std::size_t{1});
+  visit("", "energy_peak", &state.energy.peak, std::size_t{1});
+  visit("", "energy_exceeded", &state.energy.exceeded, std::size_t{1});
   visit("", "step", &state.step, std::size_t{1});
   visit("", "time", &state.time, std::size_t{1});
 }
@@ -142,7 +146,7 @@ std::uint64_t model_fingerprint(const CoupledModel& model) noexcept;
 //       56     8  FNV-1a of bytes 0..55
 //       64     …  payload: the raw bytes of every field in visitor order
 
-inline constexpr std::uint32_t kSnapshotVersion = 1;
+inline constexpr std::uint32_t kSnapshotVersion = 2;  // 2: the energy ledgers
 inline constexpr std::size_t kSnapshotHeaderBytes = 64;
 
 enum class SnapshotKind : std::uint8_t { dem1 = 1, dem2 = 2, dem3 = 3, bar = 4, coupled = 5 };

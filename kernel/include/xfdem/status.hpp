@@ -46,6 +46,12 @@ enum class StepStatus : std::uint32_t {
   /// the step was taken, but the energy bounds of docs/stability.md no longer
   /// hold. Raised on every step of such a model.
   unstable_time_step = 1u << 9,
+  /// The energy balance check (EnergyCheck, docs/stability.md) found the total
+  /// energy above its start plus the work done on the system by more than the
+  /// check's tolerance: the method gained energy it cannot have been given. The
+  /// step was taken; raised at that check and on every step after it, until
+  /// the ledger is restarted.
+  energy_growth = 1u << 10,
 };
 
 constexpr StepStatus operator|(StepStatus a, StepStatus b) {

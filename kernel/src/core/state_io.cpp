@@ -313,7 +313,8 @@ bool payload_values_ok(const State& state, const std::byte* payload, char* messa
       pair_j = here;
     } else if (std::strcmp(name, "pair_count") == 0) {
       pair_count = i32(here);
-    } else if (std::strcmp(name, "pairs_valid") == 0 || std::strcmp(name, "interface_closed") == 0) {
+    } else if (std::strcmp(name, "pairs_valid") == 0 || std::strcmp(name, "interface_closed") == 0 ||
+               std::strcmp(name, "energy_exceeded") == 0) {
       in(i32(here), 0, 1);
     }
   });

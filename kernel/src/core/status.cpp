@@ -17,6 +17,7 @@ const char* status_name(StepStatus flag) noexcept {
     case StepStatus::not_built: return "not_built";
     case StepStatus::coupling_unstable: return "coupling_unstable";
     case StepStatus::unstable_time_step: return "unstable_time_step";
+    case StepStatus::energy_growth: return "energy_growth";
   }
   return "unknown";
 }

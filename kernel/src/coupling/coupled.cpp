@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "dem/energy_books.hpp"
+
 namespace xfdem {
 
 BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
@@ -11,11 +13,16 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
   if (desc.dem_substeps < 1 || desc.dem_substeps > 1'000'000)
     return BuildResult::failure(BuildResult::Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)",
                                 desc.dem_substeps);
-  BuildResult r = build_bar(desc.bar, m.bar, s.bar, w.bar);
+  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
+  // The coupled check replaces the halves' own.
+  BarDesc bar = desc.bar;
+  bar.energy_check = EnergyCheck{0, EnergyCheck{}.tolerance};
+  BuildResult r = build_bar(bar, m.bar, s.bar, w.bar);
   if (!r.ok()) return BuildResult::failure(r.code, "bar.%s", r.message);
 
   // The bar's top is a plane at x = L, normal up, that coupled_step drives.
   DemDesc<1> dem = desc.dem;
+  dem.energy_check = EnergyCheck{0, EnergyCheck{}.tolerance};
   dem.dt = desc.bar.dt / desc.dem_substeps;
   dem.planes.push_back({{desc.bar.length}, {1.0}});
   r = build_dem(dem, m.dem, s.dem, w.dem);
@@ -47,6 +54,8 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
                                 "time.dt: %g s is too long for the particle-bar exchange to settle: omega*dt = %.3g > %.3g "
                                 "(omega = sqrt(k (1/m_top + 1/m_particle)) = %g rad/s, m_top = %g kg); reduce time.dt",
                                 m.dt, m.coupling_omega * m.dt, kCoupledMaxOmegaDt, m.coupling_omega, m.bar.tip_mass);
+  m.energy_check = desc.energy_check;
+  coupled_restart_energy_ledger(m, s);
   w.dem_start = s.dem;
   w.bar_start = s.bar;
   return BuildResult::success();
@@ -67,7 +76,7 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
   const std::int64_t t0 = now();
   const double u_start = bar_tip_displacement(m.bar, s.bar);
   const BarInput input{force};
-  StepStatus status = bar_initial_acceleration(m.bar, s.bar, w.bar, input);
+  StepStatus status = bar_resolve_acceleration(m.bar, s.bar, w.bar, input);
   if (has(status, kStepNotTaken)) return status;
   status |= bar_step(m.bar, s.bar, w.bar, input);
   if (has(status, kStepNotTaken)) return status;
@@ -88,7 +97,8 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
 }
 
 /// Whether the values the window reads before the halves' own checks can see
-/// them are finite: the force and the books, and the top plane's drive state,
+/// them are finite: the force and the books (the exchange's and the energy
+/// check's), and the top plane's drive state,
 /// which dem_drive_plane compares (a NaN compares unequal) and then overwrites.
 /// 0·x is NaN exactly when x is NaN or infinite.
 bool start_finite(const CoupledModel& m, const CoupledState& s) {
@@ -96,8 +106,30 @@ bool start_finite(const CoupledModel& m, const CoupledState& s) {
   const DemState<1>& dem = s.dem;
   const double sum = 0.0 * s.coupling_force + 0.0 * s.pending_impulse + 0.0 * s.impulse_to_particles +
                      0.0 * s.impulse_to_bar + 0.0 * dem.plane_offset[top] + 0.0 * dem.plane_speed[top] +
-                     0.0 * dem.plane_time + 0.0 * dem.hist_plane_force[static_cast<std::size_t>(dem.history_head)][top];
+                     0.0 * dem.plane_time + 0.0 * dem.hist_plane_force[static_cast<std::size_t>(dem.history_head)][top] +
+                     0.0 * s.energy.reference + 0.0 * s.energy.work + 0.0 * s.energy.peak;
   return sum == 0.0;
+}
+
+/// What the energy check weighs: the particles' books (dem/energy_books.hpp,
+/// the bar's top among the planes) plus the bar's algorithmic energy.
+EnergyTotals energy_totals(const CoupledModel& m, const CoupledState& s) {
+  EnergyTotals t = dem_detail::energy_totals(m.dem, s.dem);
+  const double bar = bar_algorithmic_energy(m.bar, s.bar);
+  return {t.total + bar, t.in_motion + bar, t.magnitude + bar};
+}
+
+/// Books the work done from outside over the step just taken (the window's
+/// start is in the workspace): the bar's tip load and base (its ledger's work
+/// less what the exchange did on it), and the particles' external forces,
+/// held constant over the window.
+void book_work(const CoupledModel& m, CoupledState& s, const CoupledWorkspace& w) {
+  double work = (s.bar.energy.work - s.bar.input_work) - (w.bar_start.energy.work - w.bar_start.input_work);
+  if (m.dem.features.external_forces)
+    for (std::int32_t i = 0; i < m.dem.n; ++i)
+      work += s.dem.external_force[0][static_cast<std::size_t>(i)] *
+              (s.dem.x[0][static_cast<std::size_t>(i)] - w.dem_start.x[0][static_cast<std::size_t>(i)]);
+  s.energy.work += work;
 }
 
 }  // namespace
@@ -163,7 +195,17 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   s.peak_passes = std::max(s.peak_passes, passes);
   ++s.step;
   s.time = static_cast<double>(s.step) * m.dt;
+  book_work(m, s, w);
+  if (energy_check_due(m.energy_check, s.step)) {
+    energy_check(s.energy, m.energy_check, energy_totals(m, s));
+  }
+  if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
   return status;
+}
+
+void coupled_restart_energy_ledger(const CoupledModel& m, CoupledState& s) {
+  if (!m.bar.built) return;
+  energy_restart(s.energy, energy_totals(m, s));
 }
 
 double coupled_top_force(const CoupledModel& m, const CoupledState& s, std::int32_t particle) {

@@ -105,6 +105,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     return BuildResult::failure(Code::invalid_argument, "damping_ratio: must be in [0, 1) (got %g)", desc.damping_ratio);
   if (!finite_array(desc.gravity.data(), D))
     return BuildResult::failure(Code::invalid_argument, "gravity: must be finite");
+  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
   if (!(std::isfinite(desc.skin) && desc.skin >= 0))
     return BuildResult::failure(Code::invalid_argument, "skin: must be finite and >= 0 (got %g)", desc.skin);
   for (std::int64_t i = 0; i < n; ++i) {
@@ -297,6 +298,8 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
   }
   s.history_count = 1;
+  m.energy_check = desc.energy_check;
+  dem_restart_energy_ledger(m, s);
   return BuildResult::success();
 }
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <initializer_list>
 
+#include "dem/energy_books.hpp"
 #include "dem/forces.hpp"
 
 namespace xfdem {
@@ -515,7 +516,8 @@ bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D
     }
     probe[part] = sum;
   });
-  double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2;
+  double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference +
+                  0.0 * s.energy.work + 0.0 * s.energy.peak;
   if (!m.features.damped) planes += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
   for (std::size_t p = 0; p < s.plane_offset.size(); ++p) {
     planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
@@ -545,6 +547,8 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   StepStatus status = ensure_current_acceleration(m, s, w);
   if (stop_now(status)) return status;
   const double start_time = s.time;  // overwritten below, read by the step (moving planes)
+  // The work of the external forces and moving planes is booked by differences over the step.
+  const double moment_start = dem_detail::external_force_moment(m, s), planes_start = dem_detail::plane_work_sum(s);
   // A full ABM4 step reads every history slot; the others read only the head.
   const bool read_whole_history =
       (m.integrator == DemIntegrator::abm4 || m.integrator == DemIntegrator::abm4_events) && s.history_count == 4;
@@ -577,18 +581,25 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
   if (!all_finite(m, s, w, start_time, read_whole_history)) status |= StepStatus::non_finite;
+  s.energy.work += (dem_detail::external_force_moment(m, s) - moment_start) + (dem_detail::plane_work_sum(s) - planes_start);
+  if (energy_check_due(m.energy_check, s.step)) energy_check(s.energy, m.energy_check, dem_detail::energy_totals(m, s));
+  if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
   return status;
 }
 
 template <int D>
 void dem_drive_plane(const DemModel<D>& m, DemState<D>& s, std::int32_t p, double offset, double speed) {
-  (void)m;
   const auto q = static_cast<std::size_t>(p);
   const bool touching = s.history_count > 0 && s.hist_plane_force[s.history_head][q] != 0.0;
-  const bool changed = s.plane_offset[q] + s.plane_speed[q] * (s.time - s.plane_time) != offset || s.plane_speed[q] != speed;
+  const bool moved = s.plane_offset[q] + s.plane_speed[q] * (s.time - s.plane_time) != offset;
+  const bool changed = moved || s.plane_speed[q] != speed;
+  // A plane put somewhere else squeezes or frees its contacts: the host's work.
+  const bool book = moved && m.energy_check.interval > 0;
+  const double elastic_before = book ? dem_detail::plane_elastic_energy(m, s, q) : 0.0;
   s.plane_offset[q] = offset;
   s.plane_speed[q] = speed;
   s.plane_time = s.time;
+  if (book) s.energy.work += dem_detail::plane_elastic_energy(m, s, q) - elastic_before;
   if (touching && changed) s.history_count = 0;
 }
 

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "dem/contact_parameters.hpp"
+#include "dem/energy_books.hpp"
 #include "dem/forces.hpp"
 
 namespace xfdem {
@@ -69,6 +70,50 @@ DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
   return e;
 }
 
+namespace dem_detail {
+
+template <int D>
+EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s) {
+  double kinetic = 0, elastic = 0, potential = 0, potential_magnitude = 0;
+  for (std::int32_t i = 0; i < m.n; ++i) {
+    double v2 = 0, gx = 0;
+    for (int d = 0; d < D; ++d) {
+      v2 += s.v[d][i] * s.v[d][i];
+      gx += m.gravity[d] * s.x[d][i];
+    }
+    kinetic += 0.5 * m.mass[i] * v2;
+    potential -= m.mass[i] * gx;
+    potential_magnitude += std::fabs(m.mass[i] * gx);
+    for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
+      const double overlap = plane_overlap(m, s, i, p, nullptr);
+      if (overlap > 0) elastic += 0.5 * m.stiffness[i] * overlap * overlap;
+    }
+  }
+  for (std::int32_t k = 0; k < s.pair_count; ++k) {
+    const double overlap = pair_overlap(m, s, s.pair_i[k], s.pair_j[k], nullptr);
+    if (overlap > 0) elastic += 0.5 * s.pair_stiffness[k] * overlap * overlap;
+  }
+  const double in_motion = kinetic + elastic;
+  return {in_motion + potential, in_motion, in_motion + potential_magnitude};
+}
+
+template <int D>
+double plane_elastic_energy(const DemModel<D>& m, const DemState<D>& s, std::size_t p) {
+  double elastic = 0;
+  for (std::int32_t i = 0; i < m.n; ++i) {
+    const double overlap = plane_overlap(m, s, i, p, nullptr);
+    if (overlap > 0) elastic += 0.5 * m.stiffness[i] * overlap * overlap;
+  }
+  return elastic;
+}
+
+}  // namespace dem_detail
+
+template <int D>
+void dem_restart_energy_ledger(const DemModel<D>& m, DemState<D>& s) {
+  energy_restart(s.energy, dem_detail::energy_totals(m, s));
+}
+
 template <int D>
 double dem_pair_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::int32_t j) {
   if (i < 0 || j < 0 || i >= m.n || j >= m.n || i == j) return NAN;
@@ -88,6 +133,9 @@ double dem_plane_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t 
 
 #define XFDEM_INSTANTIATE(D)                                                                        \
   template DemEnergy dem_energy<D>(const DemModel<D>&, const DemState<D>&);                          \
+  template EnergyTotals dem_detail::energy_totals<D>(const DemModel<D>&, const DemState<D>&);          \
+  template double dem_detail::plane_elastic_energy<D>(const DemModel<D>&, const DemState<D>&, std::size_t); \
+  template void dem_restart_energy_ledger<D>(const DemModel<D>&, DemState<D>&);                       \
   template double dem_pair_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t); \
   template double dem_plane_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t);
 XFDEM_INSTANTIATE(1)

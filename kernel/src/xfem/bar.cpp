@@ -123,6 +123,36 @@ double field_at(const BarModel& m, const std::vector<double>& f, double x) {
   return (cell.x1 - x) / h * d0 + (x - cell.x0) / h * d1;
 }
 
+/// The energy check's books and the input they book with (0·x is NaN exactly
+/// for a non-finite x).
+bool ledger_finite(const BarState& st) {
+  const EnergyLedger& l = st.energy;
+  return 0.0 * st.tip_input + 0.0 * st.input_work + 0.0 * l.reference + 0.0 * l.work + 0.0 * l.peak == 0.0;
+}
+
+/// ½uᵀKu (and ½k g² while the interface acts), summed cell by cell from the
+/// strains, ½·EA·(b − a)·((d1 − d0)/h)², rather than as uᵀKu: a rigid
+/// displacement then has no energy to lose in cancellation (uᵀKu of a bar
+/// lifted by 0.1 m carries ~1e-9 J of round-off, more than a slow gain).
+double elastic_energy(const BarModel& m, const double* u, std::int32_t closed) {
+  const double ea = m.desc.youngs_modulus * m.desc.area;
+  double e = 0.0;
+  for (const BarCell& c : m.cells) {
+    const double d0 = c.dof[0] >= 0 ? u[c.dof[0]] : 0.0;
+    const double d1 = c.dof[1] >= 0 ? u[c.dof[1]] : 0.0;
+    const double h = c.x1 - c.x0;
+    const double k = ea * (c.b - c.a) / (h * h);  // as xfem::bar_piece_matrices()
+    // One unknown on both ends is assembled as 2k on its diagonal (see build).
+    e += c.dof[0] >= 0 && c.dof[0] == c.dof[1] ? k * d0 * d0 : 0.5 * k * (d1 - d0) * (d1 - d0);
+  }
+  if (m.base_dof >= 0) e += 0.5 * m.desc.base_stiffness * u[m.base_dof] * u[m.base_dof];
+  if (m.has_interface && closed != 0) {
+    const double g = detail::bar_gap_of(m, u);
+    e += 0.5 * m.interface_stiffness * g * g;
+  }
+  return e;
+}
+
 bool all_finite(const std::vector<double>& f) {
   // 0·x is 0 for finite x and NaN otherwise; one sum, no branch per entry.
   double acc = 0.0;
@@ -195,6 +225,7 @@ BuildResult validate_bar(const BarDesc& d) {
     return BuildResult::failure(Code::invalid_argument, "max_interface_events: must be at least 1, got %d",
                                 d.max_interface_events);
   if (d.max_dofs < 0) return BuildResult::failure(Code::invalid_argument, "max_dofs: must be >= 0, got %d", d.max_dofs);
+  if (BuildResult r = validate_energy_check(d.energy_check); !r.ok()) return r;
   // Unknowns: nodes + 2 at most (phantoms or the duplicated node). Keep index arithmetic in int.
   if (d.elements > std::numeric_limits<int>::max() / 8)
     return BuildResult::failure(Code::capacity, "elements: %d is more than this build can index", d.elements);
@@ -396,15 +427,30 @@ double bar_tip_load(const BarModel& m, double t) {
   return 0.0;
 }
 
-StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
+StepStatus bar_resolve_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
                                     const BarInput& input) {
   if (!model.built) return StepStatus::not_built;
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   StepStatus s = op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
+  state.tip_input = input.tip_force;
   // The load is taken at state.time, and a load law tests t against its
   // bounds: a NaN time would read as "no load" rather than propagate.
   if (!all_finite(state.a) || !std::isfinite(state.time)) s |= StepStatus::non_finite;
   return s;
+}
+
+StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
+                                    const BarInput& input) {
+  const StepStatus s = bar_resolve_acceleration(model, state, workspace, input);
+  if (s != StepStatus::not_built) bar_restart_energy_ledger(model, state);
+  return s;
+}
+
+void bar_restart_energy_ledger(const BarModel& model, BarState& state) {
+  if (!model.built) return;
+  const double energy = bar_algorithmic_energy(model, state);
+  energy_restart(state.energy, {energy, energy, energy});
+  state.input_work = 0.0;
 }
 
 namespace {
@@ -453,6 +499,40 @@ void book_impulse(const BarModel& m, BarWorkspace& ws, double h, const double ne
   ws.last_external_impulse += h * ((1.0 - m.scheme.gamma) * net_force[0] + m.scheme.gamma * net_force[1]);
 }
 
+/// Where a (sub)step starts, for booking the work done over it: the tip's and
+/// the base's motion, and the tip force split into the load and the input.
+struct PieceStart {
+  double u_tip = 0, u_base = 0, v_base = 0, load = 0, input = 0;
+};
+PieceStart piece_start(const BarModel& m, const double* u, const double* v, double t, double input) {
+  PieceStart p;
+  p.u_tip = u[m.tip_dof];
+  if (m.base_dof >= 0) {
+    p.u_base = u[m.base_dof];
+    p.v_base = v[m.base_dof];
+  }
+  p.load = bar_tip_load(m, t);
+  p.input = input;
+  return p;
+}
+
+/// Books the work of a Newmark (sub)step from `start` to the state in `st` at
+/// t_end under `input`, with the scheme's weights, for which the discrete
+/// energy identity of a linear system is exact (docs/stability.md):
+/// [u_tip]·F_γ − c [u_base]·v_base,γ, with x_γ = (1 − γ) x_start + γ x_end.
+void book_work(const BarModel& m, BarState& st, const PieceStart& start, double t_end, double input) {
+  const double g = m.scheme.gamma;
+  const double du_tip = st.u[static_cast<std::size_t>(m.tip_dof)] - start.u_tip;
+  const double input_work = du_tip * ((1.0 - g) * start.input + g * input);
+  double work = du_tip * ((1.0 - g) * start.load + g * bar_tip_load(m, t_end)) + input_work;
+  if (m.base_dof >= 0) {
+    const auto b = static_cast<std::size_t>(m.base_dof);
+    work -= m.base_damping * (st.u[b] - start.u_base) * ((1.0 - g) * start.v_base + g * st.v[b]);
+  }
+  st.energy.work += work;
+  st.input_work += input_work;
+}
+
 /// Σ |terms of the gap|: the size of the numbers whose difference is the gap,
 /// hence the round-off floor of a computed gap.
 double gap_magnitude(const BarModel& m, const double* u) {
@@ -479,15 +559,20 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
   // 1ᵀMa at the start and end of the latest substep taken: the committed
   // substep is always the latest one when it is booked.
   double net_force[2] = {0.0, 0.0};
+  // The first piece starts from the acceleration of the input before this step.
+  double input_start = st.tip_input;
   for (;;) {
     const std::int32_t closed = st.interface_closed;
     const double h_rest = t_next - t;
     save_start(st, ws);
+    const PieceStart start = piece_start(m, st.u.data(), st.v.data(), t, input_start);
+    input_start = tip_force;
     const double g_start = detail::bar_gap_of(m, st.u.data());
     status |= held_substep(m, st, ws, tip_force, closed, t_next, h_rest, net_force);
     const double g_end = detail::bar_gap_of(m, st.u.data());
     if (agrees(closed, g_end) || !std::isfinite(g_end) || has(status, StepStatus::non_finite)) {
       book_impulse(m, ws, h_rest, net_force);
+      book_work(m, st, start, t_next, tip_force);
       return status;
     }
     if (ws.last_events == m.desc.max_interface_events) {
@@ -498,6 +583,7 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
       st.interface_closed = closed == 0 ? 1 : 0;
       status |= held_substep(m, st, ws, tip_force, st.interface_closed, t_next, h_rest, net_force);
       book_impulse(m, ws, h_rest, net_force);
+      book_work(m, st, start, t_next, tip_force);
       return status | StepStatus::active_set_not_converged;
     }
 
@@ -539,13 +625,14 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
       status |= held_substep(m, st, ws, tip_force, closed, t_event, hi * h_rest, net_force);
     }
     book_impulse(m, ws, hi * h_rest, net_force);
+    book_work(m, st, start, t_event, tip_force);
     // The switch puts ½k g² into the energy (closing) or takes it out (opening).
     // Where the crossing could not be found that closely (a gap moving too fast
     // for the floating-point resolution of the step, e.g. a sliver's phantom
     // mode), say so rather than let it add up.
     if (hi_residual > 8.0 * kEps) {
       const double g = detail::bar_gap_of(m, st.u.data());
-      const double energy = 0.5 * (m.mass.quadratic(st.v.data()) + m.stiffness.quadratic(st.u.data()));
+      const double energy = 0.5 * m.mass.quadratic(st.v.data()) + elastic_energy(m, st.u.data(), 0);
       if (0.5 * m.interface_stiffness * g * g > 16.0 * kEps * energy) status |= StepStatus::active_set_not_converged;
     }
     ++ws.last_events;
@@ -581,6 +668,7 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   const double t_n = static_cast<double>(state.step) * model.scheme.dt;
   const std::int32_t closed_before = state.interface_closed;
   if (locates_interface_events(model)) save_start(state, workspace);
+  const PieceStart start = piece_start(model, state.u.data(), state.v.data(), t_n, state.tip_input);
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   double net_force[2];  // 1ᵀMa at t_n and t_{n+1}
   StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
@@ -594,10 +682,18 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
     s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
   } else {
     book_impulse(model, workspace, model.scheme.dt, net_force);
+    book_work(model, state, start, t_next, input.tip_force);
   }
+  state.tip_input = input.tip_force;
   state.step += 1;
   state.time = t_next;
-  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a)) s |= StepStatus::non_finite;
+  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !ledger_finite(state))
+    s |= StepStatus::non_finite;
+  if (energy_check_due(model.desc.energy_check, state.step)) {
+    const double energy = bar_algorithmic_energy(model, state);
+    energy_check(state.energy, model.desc.energy_check, {energy, energy, energy});
+  }
+  if (state.energy.exceeded != 0) s |= StepStatus::energy_growth;
   return s;
 }
 
@@ -619,12 +715,16 @@ BarEnergy bar_energy(const BarModel& model, const BarState& state) {
   BarEnergy e;
   if (!model.built) return e;
   e.kinetic = 0.5 * model.mass.quadratic(state.v.data());
-  e.elastic = 0.5 * model.stiffness.quadratic(state.u.data());
-  if (model.has_interface && state.interface_closed != 0) {
-    const double g = detail::bar_gap_of(model, state.u.data());
-    e.elastic += 0.5 * model.interface_stiffness * g * g;
-  }
+  e.elastic = elastic_energy(model, state.u.data(), state.interface_closed);
   return e;
+}
+
+double bar_algorithmic_energy(const BarModel& model, const BarState& state) {
+  if (!model.built) return 0.0;
+  const BarEnergy e = bar_energy(model, state);
+  const xfem::NewmarkScheme& k = model.scheme;
+  const double c = k.beta - 0.5 * k.gamma;  // 0 for the trapezoidal rule: skip the product
+  return e.kinetic + e.elastic + (c == 0.0 ? 0.0 : 0.5 * k.dt * k.dt * c * model.mass.quadratic(state.a.data()));
 }
 
 }  // namespace xfdem
