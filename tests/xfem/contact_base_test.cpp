@@ -60,7 +60,11 @@ double momentum(const BarModel& m, const BarState& st, double lo, double hi) {
 // test checks they converge: refining the mesh (and Δt with it) four times
 // must shrink the penetration's excess over F/k and the opening more than four
 // times (the kinks of the load cap the order near 4/3, as in the spatial
-// convergence test).
+// convergence test). The ripples ring the spring about its mean penetration
+// F(t)/k with an amplitude up to that excess, so the interface must stay
+// closed wherever the load is above half its peak (the middle two thirds of
+// the pulse) if the excess is below one half, which is asserted too: near the
+// pulse's ends the ringing outweighs the load and opens it a little.
 TEST(Unilateral, CompressivePulseLeavesTheInterfaceClosed) {
   double opening[2] = {0.0, 0.0}, excess[2] = {0.0, 0.0};
   const double static_penetration = 1e4 / 1.2e9;  // F/k
@@ -78,8 +82,9 @@ TEST(Unilateral, CompressivePulseLeavesTheInterfaceClosed) {
     while (st.time < 0.6) {
       ASSERT_EQ(bar_step(m, st, ws), StepStatus::ok);
       const double gap = bar_interface_gap(m, st);
-      // While the bulk of the pulse crosses (its middle 80 %), closed at every step.
-      if (st.time > arrival + 0.1 * d.tip_duration && st.time < arrival + 0.9 * d.tip_duration) {
+      // While the load at the interface is above half its peak (the middle two
+      // thirds of the pulse: sin(π s) > ½), closed at every step.
+      if (st.time > arrival + d.tip_duration / 6.0 && st.time < arrival + 5.0 * d.tip_duration / 6.0) {
         ASSERT_EQ(st.interface_closed, 1) << "t = " << st.time;
         ASSERT_LT(gap, 0.0);
       }
@@ -93,6 +98,7 @@ TEST(Unilateral, CompressivePulseLeavesTheInterfaceClosed) {
     excess[level] = -min_gap / static_penetration - 1.0;
     opening[level] = max_gap / peak_u;
   }
+  EXPECT_LT(excess[0], 0.5);  // the ringing the window above allows for
   EXPECT_LT(excess[1], excess[0] / 4.0);
   EXPECT_LT(opening[1], opening[0] / 4.0);
 }

@@ -223,7 +223,8 @@ BuildResult validate_bar(const BarDesc& desc);
 /// gap reaches zero (found by regula falsi on the substep length, each trial a
 /// Newmark substep with the old active set), and the rest is taken with the new
 /// one, so each substep integrates a linear system and the energy bounds of
-/// docs/stability.md hold. A step without a change is exactly one Newmark step.
+/// docs/stability.md hold. A step that starts with the gap at exactly zero and
+/// leaves it on the other set's side has its event at its start. A step without a change is exactly one Newmark step.
 /// Every EnergyCheck::interval steps the energy balance is checked (BarState::energy).
 /// Returns ok, or
 /// energy_growth (the check found Ê above Ê0 + W by more than its tolerance,

@@ -595,6 +595,13 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     double lo = 0.0, g_lo = g_start, hi = 1.0, g_hi = g_end;
     auto relative = [&](double g) { return g == 0.0 ? 0.0 : std::fabs(g) / gap_magnitude(m, st.u.data()); };
     double hi_residual = relative(g_end);
+    if (g_start == 0.0) {
+      // The piece starts on the zero (an interface at rest) and leaves it on
+      // the other set's side: the event is its start. (Bracketing would halve
+      // towards it for ever: the gap there shrinks with the piece's length.)
+      hi = 0.0;
+      hi_residual = 0.0;
+    }
     double at = 1.0;   // the fraction the state in `st` was stepped to
     int replaced = 0;  // +1: hi was replaced last, −1: lo was
     for (int it = 0; it < kMaxIterations; ++it) {
@@ -622,10 +629,12 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     const double t_event = hi == 1.0 ? t_next : t + hi * h_rest;
     if (at != hi) {
       restore_start(st, ws);
-      status |= held_substep(m, st, ws, tip_force, closed, t_event, hi * h_rest, net_force);
+      if (hi > 0.0) status |= held_substep(m, st, ws, tip_force, closed, t_event, hi * h_rest, net_force);
     }
-    book_impulse(m, ws, hi * h_rest, net_force);
-    book_work(m, st, start, t_event, tip_force);
+    if (hi > 0.0) {
+      book_impulse(m, ws, hi * h_rest, net_force);
+      book_work(m, st, start, t_event, tip_force);
+    }
     // The switch puts ½k g² into the energy (closing) or takes it out (opening).
     // Where the crossing could not be found that closely (a gap moving too fast
     // for the floating-point resolution of the step, e.g. a sliver's phantom
@@ -636,9 +645,12 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
       if (0.5 * m.interface_stiffness * g * g > 16.0 * kEps * energy) status |= StepStatus::active_set_not_converged;
     }
     ++ws.last_events;
-    // The new set from the gap (it disagrees with the old one), and the
-    // acceleration that goes with it.
-    const detail::BarOperator op(m, ws, tip_force, st.interface_closed);
+    // The other set, and the acceleration that goes with it. Held, not read
+    // off the gap: at a gap of exactly zero the gap says "open" whichever side
+    // the state is leaving for (the operator built with a factor holds its set;
+    // an initial solve uses M's factor whatever it is given).
+    st.interface_closed = closed == 0 ? 1 : 0;
+    const detail::BarOperator op(m, ws, tip_force, st.interface_closed, m.mass_factor);
     status |= op.implicit_solve(0.0, 0.0, t_event, st.u.data(), st.v.data(), st.a.data());
     if (hi == 1.0) return status;
     t = t_event;
