@@ -38,9 +38,8 @@ bool build_or_skip(benchmark::State& bench, const BarDesc& d, xfdem::BarModel& m
   return false;
 }
 
-// Args: elements, fem (0/1), unilateral (0/1).
-void BM_BarStep(benchmark::State& bench) {
-  const BarDesc d = rod(static_cast<int>(bench.range(0)), bench.range(1) != 0, bench.range(2) != 0);
+/// Times bar_step() on `d` from a warm state (1000 steps in).
+void time_steps(benchmark::State& bench, const BarDesc& d) {
   xfdem::BarModel m;
   xfdem::BarState st;
   xfdem::BarWorkspace ws;
@@ -59,6 +58,19 @@ void BM_BarStep(benchmark::State& bench) {
   }
   bench.counters["dofs"] = m.dofs;
   bench.SetItemsProcessed(bench.iterations());
+}
+
+// Args: elements, fem (0/1), unilateral (0/1).
+void BM_BarStep(benchmark::State& bench) {
+  time_steps(bench, rod(static_cast<int>(bench.range(0)), bench.range(1) != 0, bench.range(2) != 0));
+}
+
+// The energy balance check's share of a step: X-FEM, tied interface, Args:
+// elements, EnergyCheck::interval (0: off; 16: the default; 1: every step).
+void BM_BarStepEnergyCheck(benchmark::State& bench) {
+  BarDesc d = rod(static_cast<int>(bench.range(0)), false, false);
+  d.energy_check.interval = static_cast<int>(bench.range(1));
+  time_steps(bench, d);
 }
 
 void BM_BarBuild(benchmark::State& bench) {
@@ -117,5 +129,6 @@ void arguments(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 BENCHMARK(BM_BarStep)->Apply(arguments);
+BENCHMARK(BM_BarStepEnergyCheck)->ArgsProduct({{300, 3000}, {0, 16, 1}});
 BENCHMARK(BM_BarEventStep)->ArgsProduct({{30, 300, 3000}, {0, 1}});
 BENCHMARK(BM_BarBuild)->Apply(arguments);

@@ -187,7 +187,8 @@ double contacts_per_particle(const DemModel<3>& model, const DemState<3>& state)
 
 /// The second argument, when given, is the number of workers (1 or 2); a third,
 /// when given, overrides DemDesc::split_from (0: never split, 1: always).
-void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double skin_radii) {
+/// `energy_interval` ≥ 0 overrides EnergyCheck::interval.
+void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double skin_radii, int energy_interval = -1) {
   const auto n = static_cast<std::int32_t>(bench.range(0));
   const Packing& pk = packing(n);
   DemDesc<3> desc = packing_desc(pk.position, pk.side, pk.top);
@@ -196,6 +197,7 @@ void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double ski
   desc.damping_ratio = 0.1;
   desc.integrator = integrator;
   desc.skin = skin_radii * kRadius;  // 0: the kernel's default, half a radius
+  if (energy_interval >= 0) desc.energy_check.interval = energy_interval;
   DemModel<3> model;
   DemState<3> state;
   DemWorkspace<3> work;
@@ -245,6 +247,14 @@ BENCHMARK_CAPTURE(BM_DemPacking, abm4, DemIntegrator::abm4, 0.0)
 // A thinner skin lists fewer non-touching pairs and rebuilds more often.
 BENCHMARK_CAPTURE(BM_DemPacking, verlet_skin_0.2r, DemIntegrator::verlet, 0.2)
     ->Args({1000, 1, -1})->Args({10000, 1, -1})->Args({100000, 1, -1})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+// The energy balance check's share: off, and at every step (the default, every
+// 16 steps, is the `verlet` rows above).
+BENCHMARK_CAPTURE(BM_DemPacking, verlet_energy_check_off, DemIntegrator::verlet, 0.0, 0)
+    ->Args({10000, 1, -1})->Args({10000, 2, -1})
+    ->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_DemPacking, verlet_energy_check_every_step, DemIntegrator::verlet, 0.0, 1)
+    ->Args({10000, 1, -1})->Args({10000, 2, -1})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
 // Where two workers start to pay: the packing unsplit on one worker against
 // split on two, from 250 to 8000 particles (DemDesc::split_from's default).

@@ -7,8 +7,9 @@
 
 namespace xfdem::dem_detail {
 
+/// Run on the model's parts through `parallel` (the bits do not depend on it).
 template <int D>
-EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s);
+EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s, const ParallelFor& parallel = {});
 
 /// Σ ½ k_i δ² over the particles touching plane p: what a host's move of the
 /// plane puts into (or takes out of) its contacts, booked as work.

@@ -582,7 +582,8 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
     status |= StepStatus::unstable_time_step;
   if (!all_finite(m, s, w, start_time, read_whole_history)) status |= StepStatus::non_finite;
   s.energy.work += (dem_detail::external_force_moment(m, s) - moment_start) + (dem_detail::plane_work_sum(s) - planes_start);
-  if (energy_check_due(m.energy_check, s.step)) energy_check(s.energy, m.energy_check, dem_detail::energy_totals(m, s));
+  if (energy_check_due(m.energy_check, s.step))
+    energy_check(s.energy, m.energy_check, dem_detail::energy_totals(m, s, w.parallel));
   if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
   return status;
 }

@@ -72,39 +72,65 @@ DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
 
 namespace dem_detail {
 
+/// Σ ½ k_i δ² over particles [begin, end) touching plane p (its point taken once).
 template <int D>
-EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s) {
-  double kinetic = 0, elastic = 0, potential = 0, potential_magnitude = 0;
-  for (std::int32_t i = 0; i < m.n; ++i) {
-    double v2 = 0, gx = 0;
-    for (int d = 0; d < D; ++d) {
-      v2 += s.v[d][i] * s.v[d][i];
-      gx += m.gravity[d] * s.x[d][i];
-    }
-    kinetic += 0.5 * m.mass[i] * v2;
-    potential -= m.mass[i] * gx;
-    potential_magnitude += std::fabs(m.mass[i] * gx);
-    for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
-      const double overlap = plane_overlap(m, s, i, p, nullptr);
-      if (overlap > 0) elastic += 0.5 * m.stiffness[i] * overlap * overlap;
-    }
+double plane_elastic_energy(const DemModel<D>& m, const DemState<D>& s, std::size_t p, std::int32_t begin,
+                            std::int32_t end) {
+  const std::array<double, D> point = plane_point_at(m, s, p, s.time);
+  const auto& normal = m.plane_normal[p];
+  double elastic = 0;
+  for (std::int32_t i = begin; i < end; ++i) {
+    double gap = 0;
+    for (int d = 0; d < D; ++d) gap += (s.x[d][i] - point[d]) * normal[d];
+    const double overlap = m.radius[i] - gap;
+    if (overlap > 0) elastic += 0.5 * m.stiffness[i] * overlap * overlap;
   }
-  for (std::int32_t k = 0; k < s.pair_count; ++k) {
-    const double overlap = pair_overlap(m, s, s.pair_i[k], s.pair_j[k], nullptr);
-    if (overlap > 0) elastic += 0.5 * s.pair_stiffness[k] * overlap * overlap;
-  }
-  const double in_motion = kinetic + elastic;
-  return {in_motion + potential, in_motion, in_motion + potential_magnitude};
+  return elastic;
 }
 
 template <int D>
 double plane_elastic_energy(const DemModel<D>& m, const DemState<D>& s, std::size_t p) {
-  double elastic = 0;
-  for (std::int32_t i = 0; i < m.n; ++i) {
-    const double overlap = plane_overlap(m, s, i, p, nullptr);
-    if (overlap > 0) elastic += 0.5 * m.stiffness[i] * overlap * overlap;
-  }
-  return elastic;
+  return plane_elastic_energy(m, s, p, 0, m.n);
+}
+
+template <int D>
+EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s, const ParallelFor& parallel) {
+  // The model's two parts (particles split at m.split, the pair list at its
+  // middle), summed part 0 then part 1 whoever runs them: the same bits on one
+  // worker or two.
+  struct Sums {
+    double kinetic = 0, elastic = 0, potential = 0, potential_magnitude = 0;
+  } sums[2];
+  const int parts = m.parts > 1 ? 2 : 1;
+  for_parts(parallel, parts, [&](int part) {
+    const std::int32_t begin = part == 0 ? 0 : m.split, end = parts == 1 || part == 1 ? m.n : m.split;
+    const std::int32_t pair_begin = part == 0 ? 0 : s.pair_count / 2;
+    const std::int32_t pair_end = parts == 1 || part == 1 ? s.pair_count : s.pair_count / 2;
+    Sums& sum = sums[part];
+    for (std::int32_t i = begin; i < end; ++i) {
+      double v2 = 0, gx = 0;
+      for (int d = 0; d < D; ++d) {
+        v2 += s.v[d][i] * s.v[d][i];
+        gx += m.gravity[d] * s.x[d][i];
+      }
+      sum.kinetic += 0.5 * m.mass[i] * v2;
+      sum.potential -= m.mass[i] * gx;
+      sum.potential_magnitude += std::fabs(m.mass[i] * gx);
+    }
+    for (std::size_t p = 0; p < m.plane_point.size(); ++p) sum.elastic += plane_elastic_energy(m, s, p, begin, end);
+    for (std::int32_t k = pair_begin; k < pair_end; ++k) {
+      const std::int32_t i = s.pair_i[k], j = s.pair_j[k];
+      double dist2 = 0;
+      for (int d = 0; d < D; ++d) dist2 += (s.x[d][j] - s.x[d][i]) * (s.x[d][j] - s.x[d][i]);
+      const double reach = m.radius[i] + m.radius[j];
+      if (dist2 >= reach * reach) continue;
+      const double overlap = reach - std::sqrt(dist2);
+      sum.elastic += 0.5 * s.pair_stiffness[k] * overlap * overlap;
+    }
+  });
+  const double in_motion = (sums[0].kinetic + sums[1].kinetic) + (sums[0].elastic + sums[1].elastic);
+  const double potential = sums[0].potential + sums[1].potential;
+  return {in_motion + potential, in_motion, in_motion + (sums[0].potential_magnitude + sums[1].potential_magnitude)};
 }
 
 }  // namespace dem_detail
@@ -133,7 +159,7 @@ double dem_plane_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t 
 
 #define XFDEM_INSTANTIATE(D)                                                                        \
   template DemEnergy dem_energy<D>(const DemModel<D>&, const DemState<D>&);                          \
-  template EnergyTotals dem_detail::energy_totals<D>(const DemModel<D>&, const DemState<D>&);          \
+  template EnergyTotals dem_detail::energy_totals<D>(const DemModel<D>&, const DemState<D>&, const ParallelFor&); \
   template double dem_detail::plane_elastic_energy<D>(const DemModel<D>&, const DemState<D>&, std::size_t); \
   template void dem_restart_energy_ledger<D>(const DemModel<D>&, DemState<D>&);                       \
   template double dem_pair_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t); \
