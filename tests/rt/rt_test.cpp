@@ -140,6 +140,22 @@ TEST(RealTimeHarness, OverridesApplyAndAStepStatusExitsThree) {
   EXPECT_NE(bad.err.find("step 1"), std::string::npos) << bad.err;
 }
 
+// energy_growth does not stop the loop: it is reported with the step it was
+// first raised at (Case I with a 1e-9 sliver cut, docs/stability.md), and is
+// -1 on a scene that never raises it.
+TEST(RealTimeHarness, EnergyGrowthIsReportedAndTheLoopCarriesOn) {
+  Result grown = run(scene("case1_xfem.json") +
+                     " --steps 3000 --set continuum.interface.position=14.000000001 --set continuum.newmark.beta=0.3025");
+  ASSERT_EQ(grown.exit_code, 0) << grown.err;
+  EXPECT_EQ(integer(grown, "steps"), 3000);
+  EXPECT_GT(integer(grown, "energy_growth_from_step"), 0);
+  EXPECT_LE(integer(grown, "energy_growth_from_step"), 3000);
+  EXPECT_EQ(grown.fields["status"], "ok");
+  Result plain = run(scene("case1_xfem.json") + " --steps 3000");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(integer(plain, "energy_growth_from_step"), -1);
+}
+
 struct BadFlags {
   const char* args;
   const char* named;  ///< text the error must contain

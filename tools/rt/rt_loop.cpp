@@ -214,14 +214,8 @@ class BarSystem {
 
 class CoupledSystem {
  public:
-  CoupledSystem(const xfdem::scene::Scene& scene, const xfdem::DemDesc<1>& dem, const xfdem::BarDesc& bar,
-                xfdem::ParallelFor parallel) {
-    xfdem::CoupledDesc desc;
-    desc.dem = dem;
-    desc.bar = bar;
-    desc.dem_substeps = scene.dem_substeps;
-    desc.reject_unstable_coupling = dem.reject_unstable_dt;
-    const xfdem::BuildResult built = world_.build(desc);
+  CoupledSystem(const xfdem::scene::Scene& scene, xfdem::ParallelFor parallel) {
+    const xfdem::BuildResult built = world_.build(xfdem::scene::coupled_desc(scene));
     if (!built.ok()) {
       const std::string message = built.message;
       if (message.rfind("bar.", 0) == 0) throw SceneError("scene key 'continuum." + message.substr(4));
@@ -323,6 +317,7 @@ struct LoopResult {
   std::uint64_t allocations = 0;
   StepStatus status = StepStatus::ok;
   std::int64_t status_step = -1;
+  std::int64_t energy_growth_step = -1;  ///< first step that said energy_growth (the loop carries on)
 };
 
 template <class System>
@@ -335,7 +330,9 @@ LoopResult run_loop(System& system, std::int64_t steps, std::int64_t period, Ste
   for (std::int64_t k = 0; k < steps; ++k) {
     if (period > 0) wait_until(release);
     const std::int64_t t0 = xfdem::platform::monotonic_ns();
-    const StepStatus status = xfdem::without(system.step(), acknowledged);  // flags the scene allowed
+    const StepStatus raw = system.step();
+    // The flags the scene allowed, and energy_growth, which is booked and carried past.
+    const StepStatus status = xfdem::without(raw, acknowledged | StepStatus::energy_growth);
     const std::int64_t t1 = xfdem::platform::monotonic_ns();
     const std::int64_t compute = t1 - t0;
     samples.compute[static_cast<std::size_t>(k)] = compute;
@@ -350,6 +347,7 @@ LoopResult run_loop(System& system, std::int64_t steps, std::int64_t period, Ste
       release += period;  // a fixed schedule: a late step does not shift the next releases
     }
     r.steps_run = k + 1;
+    if (xfdem::has(raw, StepStatus::energy_growth) && r.energy_growth_step < 0) r.energy_growth_step = k + 1;
     if (status != StepStatus::ok) {
       r.status = status;
       r.status_step = k + 1;
@@ -410,6 +408,7 @@ int run_and_report(const Options& o, const xfdem::scene::Scene& scene, System& s
     std::printf("capacity_%s: %" PRId64 " of %" PRId64 "\n", c.name, c.peak, c.capacity);
   if (!capacities.empty()) std::printf("list_builds: %" PRId64 "\n", system.list_builds());
   char text[200];
+  std::printf("energy_growth_from_step: %" PRId64 "\n", r.energy_growth_step);
   std::printf("status: %s\n", xfdem::describe(r.status, text, sizeof(text)));
   if (r.status != StepStatus::ok) {
     std::fprintf(stderr, "xfdem_rt: step %" PRId64 " (t = %.17g s) returned %s\n", r.status_step,
@@ -449,7 +448,7 @@ int run(const Options& o) {
   const xfdem::ParallelFor parallel = pool ? pool->parallel_for() : xfdem::ParallelFor{};
 
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
-    CoupledSystem system(scene, std::get<xfdem::DemDesc<1>>(scene.dem), *scene.bar, parallel);
+    CoupledSystem system(scene, parallel);
     return run_and_report(o, scene, system, pinned.c_str());
   }
   if (const auto* d1 = std::get_if<xfdem::DemDesc<1>>(&scene.dem)) {
