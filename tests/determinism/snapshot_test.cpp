@@ -318,15 +318,14 @@ TEST(Refusal, IndicesOutOfRangeUnderMatchingChecksums) {
     ASSERT_TRUE(build_bar(*sc.bar, model, state, workspace).ok());
     expect_refused(sc, with_int(Saved(sc).bytes, offset_of(state, "", "interface_closed"), 2),
                    SnapshotStatus::corrupted_payload, "field 'interface_closed' holds 2");
+    // The energy check's flag is 0/1 as well (snapshot format 2).
+    expect_refused(sc, with_int(Saved(sc).bytes, offset_of(state, "", "energy_exceeded"), -1),
+                   SnapshotStatus::corrupted_payload, "field 'energy_exceeded' holds -1");
   }
   {
     const auto sc = load("case2_fem.json");
-    CoupledDesc desc;
-    desc.dem = std::get<DemDesc<1>>(sc.dem);
-    desc.bar = *sc.bar;
-    desc.dem_substeps = sc.dem_substeps;
     CoupledWorld layout;
-    ASSERT_TRUE(layout.build(desc).ok());
+    ASSERT_TRUE(layout.build(scene::coupled_desc(sc)).ok());
     expect_refused(sc, with_int(Saved(sc).bytes, offset_of(layout.state, "dem", "history_head"), 7),
                    SnapshotStatus::corrupted_payload, "field 'history_head' holds 7");
     // A pair naming a particle that does not exist (two particles), under a pair count that covers it.
