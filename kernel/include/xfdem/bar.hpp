@@ -153,33 +153,29 @@ struct BarState {
   /// Calls visitor(name, pointer, count) for every field, in a fixed order.
   template <class Visitor>
   void for_each_field(Visitor&& visitor) {
-    visitor("u", u.data(), u.size());
-    visitor("v", v.data(), v.size());
-    visitor("a", a.data(), a.size());
-    visitor("time", &time, std::size_t{1});
-    visitor("step", &step, std::size_t{1});
-    visitor("interface_closed", &interface_closed, std::size_t{1});
-    visitor("tip_input", &tip_input, std::size_t{1});
-    visitor("input_work", &input_work, std::size_t{1});
-    visitor("energy_reference", &energy.reference, std::size_t{1});
-    visitor("energy_work", &energy.work, std::size_t{1});
-    visitor("energy_peak", &energy.peak, std::size_t{1});
-    visitor("energy_exceeded", &energy.exceeded, std::size_t{1});
+    visit_fields(*this, visitor);
   }
   template <class Visitor>
   void for_each_field(Visitor&& visitor) const {
-    visitor("u", u.data(), u.size());
-    visitor("v", v.data(), v.size());
-    visitor("a", a.data(), a.size());
-    visitor("time", &time, std::size_t{1});
-    visitor("step", &step, std::size_t{1});
-    visitor("interface_closed", &interface_closed, std::size_t{1});
-    visitor("tip_input", &tip_input, std::size_t{1});
-    visitor("input_work", &input_work, std::size_t{1});
-    visitor("energy_reference", &energy.reference, std::size_t{1});
-    visitor("energy_work", &energy.work, std::size_t{1});
-    visitor("energy_peak", &energy.peak, std::size_t{1});
-    visitor("energy_exceeded", &energy.exceeded, std::size_t{1});
+    visit_fields(*this, visitor);
+  }
+
+ private:
+  /// The one list of fields, for a const and a mutable state alike.
+  template <class Self, class Visitor>
+  static void visit_fields(Self& self, Visitor& visitor) {
+    visitor("u", self.u.data(), self.u.size());
+    visitor("v", self.v.data(), self.v.size());
+    visitor("a", self.a.data(), self.a.size());
+    visitor("time", &self.time, std::size_t{1});
+    visitor("step", &self.step, std::size_t{1});
+    visitor("interface_closed", &self.interface_closed, std::size_t{1});
+    visitor("tip_input", &self.tip_input, std::size_t{1});
+    visitor("input_work", &self.input_work, std::size_t{1});
+    visitor("energy_reference", &self.energy.reference, std::size_t{1});
+    visitor("energy_work", &self.energy.work, std::size_t{1});
+    visitor("energy_peak", &self.energy.peak, std::size_t{1});
+    visitor("energy_exceeded", &self.energy.exceeded, std::size_t{1});
   }
 };
 

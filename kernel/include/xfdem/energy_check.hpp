@@ -19,8 +19,10 @@ namespace xfdem {
 
 /// How often, and how strictly, a stepper checks its energy balance.
 struct EnergyCheck {
-  /// Steps between checks (a check costs about what the energy probe of the
-  /// stepper costs: for a bar, three banded products); 0: never checked.
+  /// Steps between checks (a check costs one energy evaluation: for a bar one
+  /// banded product and a pass over its cells, for particles a pass over them,
+  /// the planes and the listed pairs); 0: never checked (and the particles
+  /// skip the O(n) book of their external forces' work).
   int interval = 16;
   /// Gain allowed before StepStatus::energy_growth, as a fraction of the
   /// largest energy in motion (kinetic and elastic) seen at a check. > 0.
@@ -37,6 +39,10 @@ struct EnergyLedger {
   std::int32_t exceeded = 0;
 };
 
+/// Settings that switch the check off (a coupled model's halves: the coupled
+/// check replaces theirs).
+inline constexpr EnergyCheck kEnergyCheckOff{0, EnergyCheck{}.tolerance};
+
 inline bool energy_check_due(const EnergyCheck& check, std::int64_t step) {
   return check.interval > 0 && step % check.interval == 0;
 }
@@ -48,14 +54,13 @@ struct EnergyTotals {
   double total = 0, in_motion = 0, magnitude = 0;
 };
 
-/// One check. Returns whether the ledger is (now or already) exceeded.
-inline bool energy_check(EnergyLedger& ledger, const EnergyCheck& check, const EnergyTotals& now) {
+/// One check: sets ledger.exceeded when the gain is past the tolerance.
+inline void energy_check(EnergyLedger& ledger, const EnergyCheck& check, const EnergyTotals& now) {
   ledger.peak = std::max(ledger.peak, now.in_motion);
   const double allowed =
       check.tolerance * ledger.peak + 64.0 * DBL_EPSILON * (now.magnitude + std::fabs(ledger.work));
   // A NaN energy is not a gain: non_finite reports it.
   if (now.total - ledger.reference - ledger.work > allowed) ledger.exceeded = 1;
-  return ledger.exceeded != 0;
 }
 
 /// The start of new books at `now`.

@@ -42,19 +42,29 @@ double contact_force(const DemModel<D>& m, double K, double eta, double overlap,
   return f;
 }
 
+/// Particle i's ½ m v² and its −m g·x (datum x = 0).
+struct ParticleEnergy {
+  double kinetic, potential;
+};
+template <int D>
+ParticleEnergy particle_energy(const DemModel<D>& m, const DemState<D>& s, std::int32_t i) {
+  double v2 = 0, gx = 0;
+  for (int d = 0; d < D; ++d) {
+    v2 += s.v[d][i] * s.v[d][i];
+    gx += m.gravity[d] * s.x[d][i];
+  }
+  return {0.5 * m.mass[i] * v2, -(m.mass[i] * gx)};
+}
+
 }  // namespace
 
 template <int D>
 DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
   DemEnergy e;
   for (std::int32_t i = 0; i < m.n; ++i) {
-    double v2 = 0, gx = 0;
-    for (int d = 0; d < D; ++d) {
-      v2 += s.v[d][i] * s.v[d][i];
-      gx += m.gravity[d] * s.x[d][i];
-    }
-    e.kinetic += 0.5 * m.mass[i] * v2;
-    e.potential -= m.mass[i] * gx;
+    const ParticleEnergy pe = particle_energy(m, s, i);
+    e.kinetic += pe.kinetic;
+    e.potential += pe.potential;
     for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
       const double overlap = plane_overlap(m, s, i, p, nullptr);
       if (overlap > 0) e.elastic += 0.5 * m.stiffness[i] * overlap * overlap;
@@ -108,14 +118,10 @@ EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s, const Par
     const std::int32_t pair_end = parts == 1 || part == 1 ? s.pair_count : s.pair_count / 2;
     Sums& sum = sums[part];
     for (std::int32_t i = begin; i < end; ++i) {
-      double v2 = 0, gx = 0;
-      for (int d = 0; d < D; ++d) {
-        v2 += s.v[d][i] * s.v[d][i];
-        gx += m.gravity[d] * s.x[d][i];
-      }
-      sum.kinetic += 0.5 * m.mass[i] * v2;
-      sum.potential -= m.mass[i] * gx;
-      sum.potential_magnitude += std::fabs(m.mass[i] * gx);
+      const ParticleEnergy pe = particle_energy(m, s, i);
+      sum.kinetic += pe.kinetic;
+      sum.potential += pe.potential;
+      sum.potential_magnitude += std::fabs(pe.potential);
     }
     for (std::size_t p = 0; p < m.plane_point.size(); ++p) sum.elastic += plane_elastic_energy(m, s, p, begin, end);
     for (std::int32_t k = pair_begin; k < pair_end; ++k) {

@@ -647,8 +647,8 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     ++ws.last_events;
     // The other set, and the acceleration that goes with it. Held, not read
     // off the gap: at a gap of exactly zero the gap says "open" whichever side
-    // the state is leaving for (the operator built with a factor holds its set;
-    // an initial solve uses M's factor whatever it is given).
+    // the state is leaving for. A held-set operator, with M's factor: the
+    // effective matrix of the zero-length solve (fac0 = 0) that a = M⁻¹f is.
     st.interface_closed = closed == 0 ? 1 : 0;
     const detail::BarOperator op(m, ws, tip_force, st.interface_closed, m.mass_factor);
     status |= op.implicit_solve(0.0, 0.0, t_event, st.u.data(), st.v.data(), st.a.data());
