@@ -127,6 +127,11 @@ struct BarModel {
   std::vector<double> mass_row_sums;  ///< M·1: (M·1)ᵀa = 1ᵀMa, the net force on the bar
   xfem::NewmarkScheme scheme;
   xfem::BandLdlt mass_factor;       ///< M alone, for a_0 (u is given there: the interface force goes to the right-hand side)
+  /// M⁻¹ e_tip: the acceleration a unit tip force adds. bar_resolve_acceleration
+  /// changes a by this times the change of force, instead of re-solving
+  /// M a = f − C v − K u (whose round-off M⁻¹ amplifies by the inverse of a
+  /// sliver cut's tiny phantom mass: see docs/xfem.md, Small cuts).
+  std::vector<double> tip_unit_acceleration;
   xfem::BandLdlt effective_open;    ///< M + γΔt C + βΔt² K            (no interface, or unilateral open)
   xfem::BandLdlt effective_closed;  ///< M + γΔt C + βΔt² (K + k g gᵀ) (tied, or unilateral closed)
 };
@@ -239,10 +244,16 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
 StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
                                     const BarInput& input = {});
 
-/// Re-solves state.a at state.time with `input` as the extra tip force and
-/// keeps the energy ledger: for a host that changes the force held over the
-/// coming step (the coupled stepper). The change of ½Δt²(β − γ/2) aᵀMa this
-/// makes is not booked as work (it is zero for β = ¼, γ = ½). No allocation.
+/// Changes state.a to hold `input` as the extra tip force at state.time instead
+/// of state.tip_input, keeping the energy ledger: for a host that changes the
+/// force held over the coming step (the coupled stepper). The state's a is the
+/// equation of motion's solution for its tip_input (bar_step and
+/// bar_initial_acceleration leave it so), so the new one is exactly
+/// a + M⁻¹e_tip·(input − tip_input): an axpy, the same bits when the force is
+/// unchanged, and no round-off of K u divided by a sliver's phantom mass (a
+/// full re-solve injected that at every call and pumped the sliver's mode).
+/// The change of ½Δt²(β − γ/2) aᵀMa this makes is not booked as work (it is
+/// zero for β = ¼, γ = ½). No allocation.
 StepStatus bar_resolve_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
                                     const BarInput& input);
 

@@ -380,6 +380,9 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
 
   if (!model.mass_factor.factor(model.mass))
     return BuildResult::failure(Code::invalid_argument, "elements: the mass matrix is not positive definite");
+  model.tip_unit_acceleration.assign(static_cast<std::size_t>(model.dofs), 0.0);
+  model.tip_unit_acceleration[static_cast<std::size_t>(model.tip_dof)] = 1.0;
+  model.mass_factor.solve(model.tip_unit_acceleration.data());
   if (!has_if || model.unilateral) {
     build_effective(false);
     if (!model.effective_open.factor(eff))
@@ -430,8 +433,11 @@ double bar_tip_load(const BarModel& m, double t) {
 StepStatus bar_resolve_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
                                     const BarInput& input) {
   if (!model.built) return StepStatus::not_built;
-  const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
-  StepStatus s = op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
+  (void)workspace;  // kept in the signature: the full solve it once did needed it
+  StepStatus s = StepStatus::ok;
+  const double change = input.tip_force - state.tip_input;
+  if (change != 0.0)
+    for (std::size_t i = 0; i < state.a.size(); ++i) state.a[i] += change * model.tip_unit_acceleration[i];
   state.tip_input = input.tip_force;
   // The load is taken at state.time, and a load law tests t against its
   // bounds: a NaN time would read as "no load" rather than propagate.
@@ -441,8 +447,13 @@ StepStatus bar_resolve_acceleration(const BarModel& model, BarState& state, BarW
 
 StepStatus bar_initial_acceleration(const BarModel& model, BarState& state, BarWorkspace& workspace,
                                     const BarInput& input) {
-  const StepStatus s = bar_resolve_acceleration(model, state, workspace, input);
-  if (s != StepStatus::not_built) bar_restart_energy_ledger(model, state);
+  if (!model.built) return StepStatus::not_built;
+  // The full solve M a = f − C v − K u: after an edit, a says nothing about u and v.
+  const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
+  StepStatus s = op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
+  state.tip_input = input.tip_force;
+  if (!all_finite(state.a) || !std::isfinite(state.time)) s |= StepStatus::non_finite;
+  bar_restart_energy_ledger(model, state);
   return s;
 }
 
