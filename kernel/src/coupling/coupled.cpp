@@ -1,7 +1,11 @@
 // The coupled X-FE-DEM step; see coupled.hpp and docs/coupling.md.
 #include "xfdem/coupled.hpp"
 
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
+#include <limits>
 
 #include "dem/energy_books.hpp"
 
@@ -58,6 +62,7 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
   coupled_restart_energy_ledger(m, s);
   w.dem_start = s.dem;
   w.bar_start = s.bar;
+  w.dem_end = s.dem;
   return BuildResult::success();
 }
 
@@ -111,6 +116,60 @@ bool start_finite(const CoupledModel& m, const CoupledState& s) {
   return sum == 0.0;
 }
 
+/// Blends the particles' state of the window's two ends at a jump of J (see
+/// coupled_step): into = (1 − θ)·into + θ·other, field by field through the
+/// state's one list of fields. Equal values are kept as they are (a blend of
+/// equal values could move them by an ulp); bounds take the larger. Returns
+/// false, changing nothing, unless every integer field (pair list, history
+/// ring, counters) is the same in both: then the two ends differ only in
+/// values, and the blend is a state the window could have ended in.
+bool blend_particles(DemState<1>& into, const DemState<1>& other, double theta) {
+  struct Field {
+    void* data;
+    std::size_t count;
+    bool real;
+  };
+  std::array<Field, 64> fields{};
+  std::size_t n = 0;
+  bool fits = true;
+  auto& source = const_cast<DemState<1>&>(other);  // only read
+  source.for_each_array([&](const char*, auto* data, auto count) {
+    if (n == fields.size()) {
+      fits = false;
+      return;
+    }
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    fields[n++] = {static_cast<void*>(data), static_cast<std::size_t>(count), std::is_same_v<T, double>};
+  });
+  if (!fits) return false;
+  bool same = true;
+  std::size_t k = 0;
+  into.for_each_array([&](const char*, auto* data, auto count) {
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    const Field& f = fields[k++];
+    if (f.count != static_cast<std::size_t>(count)) same = false;
+    if constexpr (!std::is_same_v<T, double>) {
+      const T* o = static_cast<const T*>(f.data);
+      for (std::size_t i = 0; same && i < f.count; ++i) same = data[i] == o[i];
+    }
+  });
+  if (!same) return false;
+  k = 0;
+  into.for_each_array([&](const char* name, auto* data, auto count) {
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    const Field& f = fields[k++];
+    if constexpr (std::is_same_v<T, double>) {
+      const double* o = static_cast<const double*>(f.data);
+      const bool bound = std::strcmp(name, "network_omega2") == 0 || std::strcmp(name, "energy_peak") == 0;
+      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
+        if (data[i] == o[i]) continue;
+        data[i] = bound ? std::max(data[i], o[i]) : (1.0 - theta) * data[i] + theta * o[i];
+      }
+    }
+  });
+  return true;
+}
+
 /// What the energy check weighs: the particles' books (dem/energy_books.hpp,
 /// the bar's top among the planes) plus the bar's algorithmic energy.
 EnergyTotals energy_totals(const CoupledModel& m, const CoupledState& s) {
@@ -155,13 +214,24 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   StepStatus status = start_finite(m, s) ? StepStatus::ok : StepStatus::non_finite;
   // The bar also takes back what earlier windows left unbalanced.
   const double carried = -s.pending_impulse / m.dt;
-  // Fixed point of g(f) = −J(f)/dt − f, from last window's force.
+  // The fixed point of the window: a root of g(f) = −J(f)/dt − f, from last
+  // window's force. g is continuous but only piecewise smooth (a contact that
+  // opens or closes inside the window puts a kink in J), and decreasing: more
+  // force up on the bar lifts its top, which pushes the particles harder.
+  // Secant steps alone can cycle across a kink, so the root is bracketed and
+  // every step stays inside the bracket (regula falsi with the Illinois
+  // weights, bisection when the secant would land outside or stalls); until a
+  // bracket exists, steps go the way g's sign says and double in length.
   double f = s.coupling_force, J = 0;
   status |= window_pass(m, s, w, f + carried, false, J);
   if (has(status, kStepNotTaken)) return status;
   double g = -J / m.dt - f;
-  double f_prev = 0, g_prev = 0;
-  int passes = 1;
+  // lo: a force with g > 0 (the root is above it); hi: one with g < 0.
+  double lo = 0, g_lo = 0, hi = 0, g_hi = 0;
+  bool have_lo = false, have_hi = false;
+  double f_prev = 0, g_prev = 0, step = 0;
+  double width_last = std::numeric_limits<double>::infinity(), width_before = width_last;
+  int passes = 1, same_side = 0;
   bool settled = false;
   for (;;) {
     // Nothing to iterate once a value is NaN or infinite: the window is taken as it is.
@@ -173,9 +243,62 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
       settled = true;
       break;
     }
+    // Update the bracket with the pass just taken (the Illinois rule halves
+    // the weight of an end kept twice in a row, so regula falsi cannot stall).
+    if (g > 0) {
+      lo = f, g_lo = g, have_lo = true;
+      same_side = same_side > 0 ? same_side + 1 : 1;
+      if (same_side >= 2 && have_hi) g_hi *= 0.5;
+    } else {
+      hi = f, g_hi = g, have_hi = true;
+      same_side = same_side < 0 ? same_side - 1 : -1;
+      if (same_side <= -2 && have_lo) g_lo *= 0.5;
+    }
+    // A bracket of a few ulps holds a jump of J, not a root: the linear
+    // contact's dashpot force starts at η·δ' when a contact closes, so J jumps
+    // where the closing moves from one substep to the next. No force is a
+    // fixed point there; the window ends instead in the blend of the
+    // particles' states at the two ends whose impulse is the bar's: the top's
+    // motion is the same at both (to the bracket's ulps), so the exchange stays
+    // exact, and the blend's energy is at most the blend of the two ends'
+    // (kinetic and contact energies are convex), so it creates none.
+    if (have_lo && have_hi && std::fabs(hi - lo) <= 64 * std::numeric_limits<double>::epsilon() * scale) {
+      const double f_other = f == lo ? hi : lo;
+      const double J_here = J;
+      w.dem_end = s.dem;  // same sizes: element-wise copies, no allocation
+      status |= window_pass(m, s, w, f_other + carried, true, J);
+      if (has(status, kStepNotTaken)) return status;
+      ++passes;
+      f = f_other;
+      const double theta = (-f * m.dt - J) / (J_here - J);  // J_θ = (1 − θ) J + θ J_here = −f dt
+      if (theta > 0.0 && theta < 1.0 && blend_particles(s.dem, w.dem_end, theta)) {
+        J = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];
+        settled = true;
+      }
+      break;
+    }
     if (passes == kCoupledMaxPasses) break;
-    // Second pass: the force the first pass produced; then secant steps.
-    const double f_next = passes == 1 || g == g_prev ? f + g : f - g * (f - f_prev) / (g - g_prev);
+    double f_next;
+    if (have_lo && have_hi) {
+      // Regula falsi, but bisection when it would leave the bracket or when
+      // the bracket has not halved over the last two passes (a root beside a
+      // jump of J draws every secant to one end).
+      const double width = std::fabs(hi - lo);
+      f_next = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+      if (!(f_next > std::min(lo, hi) && f_next < std::max(lo, hi)) || width > 0.5 * width_before)
+        f_next = 0.5 * (lo + hi);
+      width_before = width_last;
+      width_last = width;
+    } else {
+      // No bracket yet: a secant step if it goes the way g's sign says (g
+      // decreasing), else a Picard step f + g; then at least double the last
+      // step, so that a bracket is found in a few passes whatever the slope.
+      const double secant = passes > 1 && g != g_prev ? -g * (f - f_prev) / (g - g_prev) : g;
+      double move = (secant > 0) == (g > 0) ? secant : g;
+      if (passes > 2 && std::fabs(move) < 2 * std::fabs(step)) move = std::copysign(2 * std::fabs(step), g);
+      f_next = f + move;
+    }
+    step = f_next - f;
     f_prev = f;
     g_prev = g;
     f = f_next;
