@@ -210,6 +210,26 @@ TEST(Coupled, ParticleComesToRestOnTheRodShortenedByItsWeight) {
   EXPECT_LT(r60, r20);
 }
 
+// A window whose contacts stay closed has an exchange impulse J affine in the
+// force (the linear law, the particles' linear integrators, the bar's linear
+// step): the secant of the last window's widest two passes is its slope to
+// round-off, so a Newton step on it lands on the fixed point and the window
+// settles in two passes, with the bar stepped once (the second pass moves its
+// top along the step's response). Both particles rest on the rod from about
+// t = 4 s in Case II.
+TEST(Coupled, ResidentContactsSettleInTwoPasses) {
+  for (const char* file : {"case2_fem.json", "case2_xfem.json"}) {
+    CoupledWorld w;
+    ASSERT_TRUE(w.build(coupled_scene(file)).ok());
+    while (w.state.time < 8.0) ASSERT_EQ(w.step(), StepStatus::ok);
+    for (int k = 0; k < 1000; ++k) {
+      ASSERT_EQ(w.step(), StepStatus::ok);
+      ASSERT_GT(coupled_top_force(w.model, w.state, 0), 0.0) << file << " at t = " << w.state.time;
+      EXPECT_EQ(w.state.last_passes, 2) << file << " at t = " << w.state.time;
+    }
+  }
+}
+
 // Undamped (ζ = 0, β = 1/4, γ = 1/2): the exchange at its fixed point creates
 // no energy, Newmark's trapezoidal rule conserves the rod's, and what is left
 // is the particle integrator's error at each impact: total energy is kept to

@@ -132,6 +132,15 @@ struct BarModel {
   /// M a = f − C v − K u (whose round-off M⁻¹ amplifies by the inverse of a
   /// sliver cut's tiny phantom mass: see docs/xfem.md, Small cuts).
   std::vector<double> tip_unit_acceleration;
+  /// True when a step is linear in BarInput::tip_force (a tied interface or
+  /// none: no active set to change). Then tip_response_{u,v,a} hold how the end
+  /// of one bar_resolve_acceleration + bar_step changes per newton of tip force
+  /// (the homogeneous step from u = v = 0, a = M⁻¹e_tip), and
+  /// tip_response_displacement the tip's share; the coupled step corrects a
+  /// step to another force with them instead of taking it again. Empty otherwise.
+  bool linear_in_tip_force = false;
+  std::vector<double> tip_response_u, tip_response_v, tip_response_a;
+  double tip_response_displacement = 0.0;
   xfem::BandLdlt effective_open;    ///< M + γΔt C + βΔt² K            (no interface, or unilateral open)
   xfem::BandLdlt effective_closed;  ///< M + γΔt C + βΔt² (K + k g gᵀ) (tied, or unilateral closed)
 };
@@ -204,6 +213,14 @@ struct BarWorkspace {
   /// step split at interface events samples the forces at its substeps' ends,
   /// not only at t_n and t_{n+1}.
   double last_external_impulse = 0.0;
+  /// What the last bar_step() booked, so that a linear model's step can be
+  /// re-booked for another tip force (the coupled step's correction): where it
+  /// started (tip and base motion, load and input) and the work it booked.
+  struct StepStart {
+    double u_tip = 0, u_base = 0, v_base = 0, load = 0, input = 0;
+  } last_start;
+  double work_before = 0.0, input_work_before = 0.0;  ///< BarState's books before it booked
+  double last_net_force[2] = {0.0, 0.0};
 };
 
 /// Validates every field (the message starts with the field's name, e.g.
@@ -211,6 +228,16 @@ struct BarWorkspace {
 /// rest at t = 0 with a_0 from M a_0 = f(0). On failure the model is not built
 /// and bar_step() returns StepStatus::not_built.
 BuildResult build_bar(const BarDesc& desc, BarModel& model, BarState& state, BarWorkspace& workspace);
+
+/// Turns the step bar_step() just took into the one it would have taken with
+/// `tip_force` instead, for a model linear in it (BarModel::linear_in_tip_force;
+/// otherwise returns not_built and changes nothing): the state moves along
+/// BarModel::tip_response_*, and the step's books (impulse, work) are booked
+/// again as if that force had acted throughout. O(dofs), no solve; never
+/// allocates. The step must have been taken right after
+/// bar_resolve_acceleration() with its input (the coupled window's pattern),
+/// with the bar's own energy check off (a check already taken is not redone).
+StepStatus bar_adjust_step_input(const BarModel& model, BarState& state, BarWorkspace& workspace, double tip_force);
 
 /// Only the validation of build_bar() (no allocation), for tools that check input first.
 BuildResult validate_bar(const BarDesc& desc);

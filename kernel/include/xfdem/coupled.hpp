@@ -94,6 +94,12 @@ struct CoupledState {
   /// Totals since the start: Σ J the particles took from the top, Σ f̄ dt the
   /// bar received (N·s, up).
   double impulse_to_particles = 0, impulse_to_bar = 0;
+  /// dg/df of the window's residual g(f) = −J(f)/Δt − f, as the last window
+  /// that measured it left it (0: none yet): the first step of the next
+  /// window's iteration. Within one contact set J is affine in f, so a resting
+  /// window settles in two passes.
+  double coupling_slope = 0;
+  double coupling_slope_width = 0;  ///< the secant's width it was measured over, halved every window, N
   std::int32_t last_passes = 0;  ///< passes the last window needed
   std::int32_t peak_passes = 0;
   std::int64_t step = 0;
@@ -126,6 +132,10 @@ struct CoupledWorkspace {
   BarState bar_start;     ///< the bar at t_n
   /// The particles at one end of a window whose impulse jumps (coupled_step).
   DemState<1> dem_end;
+  /// A bar linear in its tip force is stepped once per window, at the first
+  /// pass's force; later passes move its top along the step's response, and
+  /// the window's end corrects the bar to the force it settled on.
+  double first_force = 0, tip_start = 0, first_tip_end = 0;
 };
 
 /// Builds both halves; the only allocating call. Messages name the field

@@ -63,6 +63,8 @@ void for_each_field(CoupledState& state, Visitor&& visit) {
   visit("", "pending_impulse", &state.pending_impulse, std::size_t{1});
   visit("", "impulse_to_particles", &state.impulse_to_particles, std::size_t{1});
   visit("", "impulse_to_bar", &state.impulse_to_bar, std::size_t{1});
+  visit("", "coupling_slope", &state.coupling_slope, std::size_t{1});
+  visit("", "coupling_slope_width", &state.coupling_slope_width, std::size_t{1});
   visit("", "last_passes", &state.last_passes, std::size_t{1});
   visit("", "peak_passes", &state.peak_passes, std::size_t{1});
   visit("", "energy_reference", &state.energy.reference, std::size_t{1});

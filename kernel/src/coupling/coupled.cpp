@@ -70,28 +70,45 @@ namespace {
 
 /// One pass of the window from the saved start: the bar under `force`, then
 /// the particles seeing its top move linearly. Returns J (the particles'
-/// impulse from the top).
+/// impulse from the top). A bar linear in its tip force is stepped by the
+/// first pass only; a later pass moves its top's end along the step's
+/// response (coupled_step corrects the bar itself once the window settles).
 StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w, double force, bool restore,
                        double& impulse) {
+  const bool bar_stepped = !restore || !m.bar.linear_in_tip_force;
   if (restore) {  // the first pass starts from the state as it is
-    s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
+    if (bar_stepped) s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
     s.dem = w.dem_start;
   }
+  // A step not taken leaves the state as the window found it.
+  const auto not_taken = [&](StepStatus status) {
+    s.bar = w.bar_start;
+    s.dem = w.dem_start;
+    return status;
+  };
   const auto now = [&w] { return w.clock_ns ? w.clock_ns() : 0; };
   const std::int64_t t0 = now();
-  const double u_start = bar_tip_displacement(m.bar, s.bar);
-  const BarInput input{force};
-  StepStatus status = bar_resolve_acceleration(m.bar, s.bar, w.bar, input);
-  if (has(status, kStepNotTaken)) return status;
-  status |= bar_step(m.bar, s.bar, w.bar, input);
-  if (has(status, kStepNotTaken)) return status;
+  StepStatus status = StepStatus::ok;
+  double u_end;
+  if (bar_stepped) {
+    w.tip_start = bar_tip_displacement(m.bar, s.bar);
+    const BarInput input{force};
+    status |= bar_resolve_acceleration(m.bar, s.bar, w.bar, input);
+    if (has(status, kStepNotTaken)) return not_taken(status);
+    status |= bar_step(m.bar, s.bar, w.bar, input);
+    if (has(status, kStepNotTaken)) return not_taken(status);
+    u_end = bar_tip_displacement(m.bar, s.bar);
+    w.first_force = force;
+    w.first_tip_end = u_end;
+  } else {
+    u_end = w.first_tip_end + (force - w.first_force) * m.bar.tip_response_displacement;
+  }
   const std::int64_t t1 = now();
-  const double u_end = bar_tip_displacement(m.bar, s.bar);
-  dem_drive_plane(m.dem, s.dem, m.top_plane, u_start, (u_end - u_start) / m.dt);
+  dem_drive_plane(m.dem, s.dem, m.top_plane, w.tip_start, (u_end - w.tip_start) / m.dt);
   s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)] = 0.0;
   for (int k = 0; k < m.substeps; ++k) {
     status |= dem_step(m.dem, s.dem, w.dem);
-    if (has(status, kStepNotTaken)) return status;
+    if (has(status, kStepNotTaken)) return not_taken(status);
   }
   if (w.clock_ns) {
     w.profile.continuum_ns += t1 - t0;
@@ -109,7 +126,7 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
 bool start_finite(const CoupledModel& m, const CoupledState& s) {
   const auto top = static_cast<std::size_t>(m.top_plane);
   const DemState<1>& dem = s.dem;
-  const double sum = 0.0 * s.coupling_force + 0.0 * s.pending_impulse + 0.0 * s.impulse_to_particles +
+  const double sum = 0.0 * s.coupling_force + 0.0 * s.coupling_slope + 0.0 * s.coupling_slope_width + 0.0 * s.pending_impulse + 0.0 * s.impulse_to_particles +
                      0.0 * s.impulse_to_bar + 0.0 * dem.plane_offset[top] + 0.0 * dem.plane_speed[top] +
                      0.0 * dem.plane_time + 0.0 * dem.hist_plane_force[static_cast<std::size_t>(dem.history_head)][top] +
                      0.0 * s.energy.reference + 0.0 * s.energy.work + 0.0 * s.energy.peak;
@@ -232,6 +249,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   double f_prev = 0, g_prev = 0, step = 0;
   double width_last = std::numeric_limits<double>::infinity(), width_before = width_last;
   int passes = 1, same_side = 0;
+  s.coupling_slope_width *= 0.5;
   bool settled = false;
   for (;;) {
     // Nothing to iterate once a value is NaN or infinite: the window is taken as it is.
@@ -254,15 +272,21 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
       same_side = same_side < 0 ? same_side - 1 : -1;
       if (same_side <= -2 && have_lo) g_lo *= 0.5;
     }
-    // A bracket of a few ulps holds a jump of J, not a root: the linear
-    // contact's dashpot force starts at η·δ' when a contact closes, so J jumps
-    // where the closing moves from one substep to the next. No force is a
-    // fixed point there; the window ends instead in the blend of the
-    // particles' states at the two ends whose impulse is the bar's: the top's
-    // motion is the same at both (to the bracket's ulps), so the exchange stays
-    // exact, and the blend's energy is at most the blend of the two ends'
-    // (kinetic and contact energies are convex), so it creates none.
-    if (have_lo && have_hi && std::fabs(hi - lo) <= 64 * std::numeric_limits<double>::epsilon() * scale) {
+    // A bracket narrower than the tolerance's resolution holds a jump of J,
+    // not a root: the linear contact's dashpot force starts at η·δ' when a
+    // contact closes, so J jumps where the closing moves from one substep to
+    // the next. (A smooth g would change by at most |g'|·width ≤ the
+    // tolerance across it, and both ends would have settled; |g'| is taken
+    // from the cached slope, at least 1.) No force is a fixed point there;
+    // the window ends instead in the blend of the particles' states at the two
+    // ends whose impulse is the bar's: the top's motion is the same at both to
+    // within the tolerance, so the exchange stays exact, and the blend's
+    // energy is at most the blend of the two ends' (kinetic and contact
+    // energies are convex), so it creates none.
+    const double resolution =
+        std::max(64 * std::numeric_limits<double>::epsilon(), 1e-10 / std::max(1.0, std::fabs(s.coupling_slope))) *
+        scale;
+    if (have_lo && have_hi && std::fabs(hi - lo) <= resolution) {
       const double f_other = f == lo ? hi : lo;
       const double J_here = J;
       w.dem_end = s.dem;  // same sizes: element-wise copies, no allocation
@@ -274,6 +298,8 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
       if (theta > 0.0 && theta < 1.0 && blend_particles(s.dem, w.dem_end, theta)) {
         J = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];
         settled = true;
+      } else {
+        settled = std::fabs(-J / m.dt - f) <= 1e-10 * (std::fabs(f) + std::fabs(J / m.dt));  // this end is a root
       }
       break;
     }
@@ -293,7 +319,10 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
       // No bracket yet: a secant step if it goes the way g's sign says (g
       // decreasing), else a Picard step f + g; then at least double the last
       // step, so that a bracket is found in a few passes whatever the slope.
-      const double secant = passes > 1 && g != g_prev ? -g * (f - f_prev) / (g - g_prev) : g;
+      // (the first move: a Newton step on the last window's slope, if it measured one)
+      const double secant = passes > 1 && g != g_prev ? -g * (f - f_prev) / (g - g_prev)
+                            : s.coupling_slope < 0 ? -g / s.coupling_slope
+                                                   : g;
       double move = (secant > 0) == (g > 0) ? secant : g;
       if (passes > 2 && std::fabs(move) < 2 * std::fabs(step)) move = std::copysign(2 * std::fabs(step), g);
       f_next = f + move;
@@ -306,6 +335,20 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     if (has(status, kStepNotTaken)) return status;
     g = -J / m.dt - f;
     ++passes;
+    // The slope of the widest secant: g's round-off (~1e-11 of its scale)
+    // divided by the width is the slope's error. The width a cached slope was
+    // measured over halves every window (below), so the slope of a new
+    // contact set takes over within a few windows.
+    const double slope = (g - g_prev) / (f - f_prev);
+    if (slope < 0 && std::isfinite(slope) && std::fabs(f - f_prev) >= s.coupling_slope_width) {
+      s.coupling_slope_width = std::fabs(f - f_prev);
+      s.coupling_slope = slope;
+    }
+  }
+  if (m.bar.linear_in_tip_force && f + carried != w.first_force && !has(status, StepStatus::non_finite)) {
+    const std::int64_t t0 = w.clock_ns ? w.clock_ns() : 0;
+    status |= bar_adjust_step_input(m.bar, s.bar, w.bar, f + carried);
+    if (w.clock_ns) w.profile.continuum_ns += w.clock_ns() - t0;
   }
   if (!settled && !has(status, StepStatus::non_finite)) status |= StepStatus::coupling_unstable;
   if (m.beyond_stable_step) status |= StepStatus::unstable_time_step;

@@ -30,7 +30,7 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
   for (int i = 0; i < n; ++i) rhs[i] = 0.0;
   m_.stiffness.subtract_product(x, rhs);  // −K x
   if (m_.base_dof >= 0) rhs[m_.base_dof] -= m_.base_damping * v[m_.base_dof];
-  rhs[m_.tip_dof] += bar_tip_load(m_, t) + extra_tip_force_;
+  rhs[m_.tip_dof] += (homogeneous_ ? 0.0 : bar_tip_load(m_, t)) + extra_tip_force_;
 
   const bool initial = (fac0 == 0.0);
   const double gap_x = bar_gap_of(m_, x);
@@ -394,15 +394,32 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
       return BuildResult::failure(Code::invalid_argument, "dt: the effective stiffness is not positive definite");
   }
 
-  // ---- state at rest, a_0 from the equation of motion at t = 0 ---------------
   const auto n = static_cast<std::size_t>(model.dofs);
+  workspace.u_pred.assign(n, 0.0);
+  workspace.v_pred.assign(n, 0.0);
+  workspace.rhs.assign(n, 0.0);
+  // ---- the step's response to the tip force, where it is linear ---------------
+  // One homogeneous step (no load, u = v = 0) under a unit tip force, from the
+  // acceleration a unit force adds at its start (what bar_resolve_acceleration does).
+  model.linear_in_tip_force = !model.unilateral;
+  if (model.linear_in_tip_force) {
+    model.tip_response_u.assign(n, 0.0);
+    model.tip_response_v.assign(n, 0.0);
+    model.tip_response_a = model.tip_unit_acceleration;
+    std::int32_t closed = has_if ? 1 : 0;
+    const detail::BarOperator op(model, workspace, 1.0, closed, detail::BarOperator::homogeneous);
+    double net_force[2];
+    (void)xfem::newmark_step(model.scheme, op, model.scheme.dt, model.tip_response_u.data(),
+                             model.tip_response_v.data(), model.tip_response_a.data(), workspace.u_pred.data(),
+                             workspace.v_pred.data(), model.mass_row_sums.data(), net_force);
+    model.tip_response_displacement = model.tip_response_u[static_cast<std::size_t>(model.tip_dof)];  // as bar_tip_displacement
+  }
+
+  // ---- state at rest, a_0 from the equation of motion at t = 0 ---------------
   state.u.assign(n, 0.0);
   state.v.assign(n, 0.0);
   state.a.assign(n, 0.0);
   state.interface_closed = (has_if && !model.unilateral) ? 1 : 0;
-  workspace.u_pred.assign(n, 0.0);
-  workspace.v_pred.assign(n, 0.0);
-  workspace.rhs.assign(n, 0.0);
   if (model.unilateral) {
     // Size the substep scratch now (a factor of this profile), so that a step
     // that locates an interface event allocates nothing.
@@ -512,9 +529,7 @@ void book_impulse(const BarModel& m, BarWorkspace& ws, double h, const double ne
 
 /// Where a (sub)step starts, for booking the work done over it: the tip's and
 /// the base's motion, and the tip force split into the load and the input.
-struct PieceStart {
-  double u_tip = 0, u_base = 0, v_base = 0, load = 0, input = 0;
-};
+using PieceStart = BarWorkspace::StepStart;
 PieceStart piece_start(const BarModel& m, const double* u, const double* v, double t, double input) {
   PieceStart p;
   p.u_tip = u[m.tip_dof];
@@ -704,6 +719,11 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
     state.interface_closed = closed_before;
     s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
   } else {
+    workspace.last_start = start;
+    workspace.work_before = state.energy.work;
+    workspace.input_work_before = state.input_work;
+    workspace.last_net_force[0] = net_force[0];
+    workspace.last_net_force[1] = net_force[1];
     book_impulse(model, workspace, model.scheme.dt, net_force);
     book_work(model, state, start, t_next, input.tip_force);
   }
@@ -717,6 +737,35 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
     energy_check(state.energy, model.desc.energy_check, {energy, energy, energy});
   }
   if (state.energy.exceeded != 0) s |= StepStatus::energy_growth;
+  return s;
+}
+
+StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force) {
+  if (!m.built || !m.linear_in_tip_force) return StepStatus::not_built;
+  const double change = tip_force - st.tip_input;
+  if (change == 0.0) return StepStatus::ok;
+  const auto n = static_cast<std::size_t>(m.dofs);
+  double net_start = ws.last_net_force[0], net_end = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    st.u[i] += change * m.tip_response_u[i];
+    st.v[i] += change * m.tip_response_v[i];
+    st.a[i] += change * m.tip_response_a[i];
+    net_start += change * m.mass_row_sums[i] * m.tip_unit_acceleration[i];
+    net_end += m.mass_row_sums[i] * st.a[i];
+  }
+  // The books, as bar_step would have kept them with this force throughout.
+  const double net_force[2] = {net_start, net_end};
+  ws.last_net_force[0] = net_start;
+  ws.last_net_force[1] = net_end;
+  ws.last_external_impulse = 0.0;
+  book_impulse(m, ws, m.scheme.dt, net_force);
+  st.energy.work = ws.work_before;
+  st.input_work = ws.input_work_before;
+  ws.last_start.input = tip_force;
+  book_work(m, st, ws.last_start, st.time, tip_force);
+  st.tip_input = tip_force;
+  StepStatus s = StepStatus::ok;
+  if (!all_finite(st.u) || !all_finite(st.v) || !all_finite(st.a) || !ledger_finite(st)) s |= StepStatus::non_finite;
   return s;
 }
 

@@ -27,6 +27,13 @@ class BarOperator {
         closed_(interface_closed),
         substep_factor_(&substep_factor) {}
 
+  /// The step's response to the tip force alone: the tip load is left out
+  /// (BarModel::tip_response_*).
+  enum Homogeneous { homogeneous };
+  BarOperator(const BarModel& model, BarWorkspace& workspace, double extra_tip_force, std::int32_t& interface_closed,
+              Homogeneous)
+      : m_(model), ws_(workspace), extra_tip_force_(extra_tip_force), closed_(interface_closed), homogeneous_(true) {}
+
   [[nodiscard]] int size() const { return m_.dofs; }
 
   /// Solves (M + fac1 C + fac0 K) k = f(t) − C v − K x for k, with (fac0, fac1)
@@ -42,6 +49,7 @@ class BarOperator {
   double extra_tip_force_;
   std::int32_t& closed_;
   const xfem::BandLdlt* substep_factor_ = nullptr;
+  bool homogeneous_ = false;
 };
 
 /// Writes M + fac1·C + fac0·(K + [closed] k g gᵀ) into `out`, which has the
@@ -49,3 +57,4 @@ class BarOperator {
 void assemble_effective(const BarModel& m, double fac0, double fac1, bool closed, xfem::SymmetricBand& out);
 
 }  // namespace xfdem::detail
+
