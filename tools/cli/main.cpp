@@ -97,7 +97,7 @@ int run(int argc, char** argv) {
   std::fprintf(stderr, "xfdem: %s: %lld steps, wall %.3f s, mean %.3f us/step, worst %.3f us/step\n",
                scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
                summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);
-  std::fprintf(stderr, "xfdem: stages: %s\n", summary.stages.c_str());
+  std::fprintf(stderr, "xfdem: stages (every 64th step timed): %s\n", summary.stages.c_str());
   if (summary.unstable_steps > 0)
     std::fprintf(stderr,
                  "xfdem: warning: %lld steps past the stable time step (unstable_time_step, allowed by "

@@ -14,7 +14,8 @@ struct RunSummary {
   double wall_seconds = 0;
   double mean_step_seconds = 0;
   double worst_step_seconds = 0;
-  /// Per-stage time shares and peak use of every capacity, one line.
+  /// Per-stage time shares (of every 64th step, which alone is timed stage by
+  /// stage) and peak use of every capacity, one line.
   std::string stages;
   /// Steps past the stated stable limit (unstable_time_step), carried on past
   /// because the scene set dem.allow_unstable_dt.
