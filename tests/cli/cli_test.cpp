@@ -77,34 +77,75 @@ TEST_P(CliRejects, WithTheKeyNamedAndNoOutput) {
   EXPECT_FALSE(fs::exists(csv.string() + ".partial"));
 }
 
+// Each case names the key and the reason it expects, as the message gives
+// them ("scene key 'KEY': REASON").
 INSTANTIATE_TEST_SUITE_P(
     BadValues, CliRejects,
-    ::testing::Values(BadInput{"--set dem.particles.0.mass=-1", "dem.particles.0.mass"},
-                      BadInput{"--set dem.particles.0.radius=0", "dem.particles.0.radius"},
-                      BadInput{"--set dem.contact.damping_ratio=1", "dem.contact.damping_ratio"},
-                      BadInput{"--set dem.contact.damping_ratio=-0.1", "dem.contact.damping_ratio"},
-                      BadInput{"--set time.dt=0", "time.dt"},
-                      BadInput{"--set time.dt=-1e-4", "time.dt"},
-                      BadInput{"--set output.every=0.00015", "output.every"},
-                      BadInput{"--set time.end=0.00015", "time.end"},
-                      BadInput{"--set dem.particles.0.mass=\\\"heavy\\\"", "dem.particles.0.mass"},
-                      BadInput{"--set dem.particles.0.position=[1,2]", "dem.particles.0.position"},
-                      BadInput{"--set dem.particles.0.colour=1", "dem.particles.0.colour"},
-                      BadInput{"--set dem.integrator=euler", "dem.integrator"},
-                      BadInput{"--set dem.contact.law=hertz", "dem.contact.law"},
-                      BadInput{"--set dem.particles.0.stiffness=1e999", "dem.particles.0.stiffness"},
-                      BadInput{"--set dem.planes.0.normal=[0]", "dem.planes.0.normal"},
-                      BadInput{"--set dimension=4", "dimension"},
-                      BadInput{"--set time.dt=0.05", "dt"},  // past the stable step
-                      BadInput{"--set output.probes.0.particle=p9", "output.probes.0.particle"},
-                      BadInput{"--set dem.particles.7.mass=1", "dem.particles.7"},
-                      BadInput{"--threads 3", "--threads"},
-                      BadInput{"--set energy_check.tolerance=0", "energy_check.tolerance"},
-                      BadInput{"--set energy_check.interval=-1", "energy_check.interval"},
-                      BadInput{"--set energy_check.every=4", "energy_check.every"},
-                      // end/dt = 6e29 steps: rejected, not cast past int64 (found by the loader fuzzer)
-                      BadInput{"--set time.dt=1e-29 --set output.every=1e-29", "time.end"},
-                      BadInput{"--frobnicate", "--frobnicate"}));
+    ::testing::Values(
+        BadInput{"--set dem.particles.0.mass=-1", "scene key 'dem.particles.0.mass': must be > 0 (got -1)"},
+        BadInput{"--set dem.particles.0.radius=0", "scene key 'dem.particles.0.radius': must be > 0 (got 0)"},
+        BadInput{"--set dem.contact.damping_ratio=1",
+                 "scene key 'dem.contact.damping_ratio': must be >= 0 and < 1 (got 1)"},
+        BadInput{"--set dem.contact.damping_ratio=-0.1", "scene key 'dem.contact.damping_ratio': must be >= 0 and < 1"},
+        BadInput{"--set time.dt=0", "scene key 'time.dt': must be > 0 (got 0)"},
+        BadInput{"--set time.dt=-1e-4", "scene key 'time.dt': must be > 0 (got -0.0001)"},
+        BadInput{"--set output.every=0.00015", "scene key 'output.every': must be a whole multiple of time.dt"},
+        BadInput{"--set time.end=0.00015", "scene key 'time.end': must be a whole multiple of time.dt"},
+        BadInput{"--set dem.particles.0.mass=\\\"heavy\\\"",
+                 "scene key 'dem.particles.0.mass': expected a number, got a string"},
+        BadInput{"--set dem.particles.0.position=[1,2]",
+                 "scene key 'dem.particles.0.position': expected 1 numbers (one per dimension), got 2"},
+        BadInput{"--set dem.particles.0.colour=1", "scene key 'dem.particles.0.colour': unknown key"},
+        BadInput{"--set dem.integrator=euler", "scene key 'dem.integrator': 'euler' is not one of"},
+        BadInput{"--set dem.contact.law=hertz", "scene key 'dem.contact.law': 'hertz' is not one of"},
+        BadInput{"--set dem.particles.0.stiffness=1e999",
+                 "scene key 'dem.particles.0.stiffness': value '1e999' is not a finite number"},
+        BadInput{"--set dem.planes.0.normal=[0]", "scene key 'dem.planes.0.normal': must not be the zero vector"},
+        BadInput{"--set dimension=4", "scene key 'dimension': must be an integer in [1, 3] (got 4)"},
+        // past the stable step (the output interval set along, so that it is the step that is refused)
+        BadInput{"--set time.dt=0.05 --set output.every=0.05", "scene key 'time.dt': 0.05 s exceeds the stable step"},
+        BadInput{"--set output.probes.0.particle=p9",
+                 "scene key 'output.probes.0.particle': 'p9' is not a particle of this scene"},
+        BadInput{"--set dem.particles.7.mass=1", "--set 'dem.particles.7.mass': 'dem.particles.7' is past the end"},
+        BadInput{"--threads 3", "--threads: must be 1 or 2 (got '3')"},
+        BadInput{"--set energy_check.tolerance=0", "scene key 'energy_check.tolerance': must be > 0 (got 0)"},
+        BadInput{"--set energy_check.interval=-1", "scene key 'energy_check.interval': must be an integer in"},
+        BadInput{"--set energy_check.every=4", "scene key 'energy_check.every': unknown key"},
+        // end/dt = 6e29 steps: rejected, not cast past int64 (found by the loader fuzzer)
+        BadInput{"--set time.dt=1e-29 --set output.every=1e-29", "scene key 'time.end': needs more than 4e9 steps"},
+        BadInput{"--frobnicate", "unknown option '--frobnicate'"}));
+
+// A coupled scene's particles step at time.dt / time.dem_substeps: past their
+// stable step, the message names time.dt, the substep and what to change.
+TEST(Cli, CoupledSubstepPastTheStableStepNamesTimeDt) {
+  const Result r = run(std::string("run ") + scene("case2_xfem.json") +
+                       " --set time.dt=0.004 --set time.dem_substeps=1 --set output.every=0.02");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'time.dt': the particle substep time.dt / time.dem_substeps = 0.004 s exceeds the "
+                       "stable step"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("reduce time.dt or raise time.dem_substeps"), std::string::npos) << r.err;
+}
+
+// Output errors: an empty --csv, a directory, and a write that fails (a full
+// device reports at the write or at close) are errors naming the path; no
+// partial file is left.
+TEST(Cli, OutputErrorsAreReportedAndLeaveNoPartialFile) {
+  Result r = run(std::string("run ") + scene("v1_k1e4.json") + " --csv \"\"");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--csv: must name a file (got an empty path)"), std::string::npos) << r.err;
+  r = run(std::string("run ") + scene("v1_k1e4.json") + " --csv " + scratch().string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--csv '" + scratch().string() + "': is a directory"), std::string::npos) << r.err;
+  if (fs::exists("/dev/full")) {
+    r = run(std::string("run ") + scene("v1_k1e4.json") + " --csv /dev/full");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("cannot write '/dev/full': No space left on device"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::is_character_file("/dev/full"));  // written to, not replaced by a file
+    EXPECT_FALSE(fs::exists("/dev/full.partial"));
+  }
+}
 
 TEST(Cli, MissingFileAndMalformedJsonAreErrors) {
   Result r = run("run /nonexistent/scene.json");

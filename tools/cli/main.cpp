@@ -8,6 +8,7 @@
 // failed run leaves no partial output. Exit codes: 0 success, 2 bad input
 // (usage, scene, override), 3 the stepper reported a status.
 #include <cstdio>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +36,58 @@ int usage_error(const std::string& what) {
   return 2;
 }
 
+/// Writes `text` to `stream`, then flushes and closes it (unless stdout),
+/// returning the first error's errno (0: none).
+int write_all(std::FILE* stream, const std::string& text, bool close) {
+  int error = 0;
+  if (std::fwrite(text.data(), 1, text.size(), stream) != text.size()) error = errno;
+  if (std::fflush(stream) != 0 && error == 0) error = errno;
+  if (close && std::fclose(stream) != 0 && error == 0) error = errno;
+  return error != 0 ? error : EIO * (!close && std::ferror(stream) != 0);
+}
+
+/// The CSV: to standard output when `path` is empty. A regular file (or a new
+/// one) is written to PATH.partial and renamed into place only when every
+/// byte reached it, closing included (a full disk reports at close), so a
+/// failed write leaves no partial file. Anything else the path names (a
+/// device or a pipe: /dev/stdout, /dev/full) is written directly. Errors are
+/// reported naming the path; returns false then.
+bool write_output(const std::string& path, const std::string& text) {
+  if (path.empty()) {
+    if (const int error = write_all(stdout, text, false); error != 0) {
+      std::cerr << "xfdem: cannot write the CSV to standard output: " << std::strerror(error) << "\n";
+      return false;
+    }
+    return true;
+  }
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  const bool regular = !std::filesystem::exists(status) || std::filesystem::is_regular_file(status);
+  if (std::filesystem::is_directory(status)) {
+    std::cerr << "xfdem: --csv '" << path << "': is a directory\n";
+    return false;
+  }
+  const std::string target = regular ? path + ".partial" : path;
+  std::FILE* out = std::fopen(target.c_str(), regular ? "wb" : "ab");
+  if (out == nullptr) {
+    std::cerr << "xfdem: cannot write '" << target << "': " << std::strerror(errno) << "\n";
+    return false;
+  }
+  if (const int error = write_all(out, text, true); error != 0) {
+    std::cerr << "xfdem: cannot write '" << target << "': " << std::strerror(error) << "\n";
+    if (regular) std::remove(target.c_str());
+    return false;
+  }
+  if (!regular) return true;
+  std::filesystem::rename(target, path, ec);
+  if (ec) {
+    std::cerr << "xfdem: cannot move output into '" << path << "': " << ec.message() << "\n";
+    std::remove(target.c_str());
+    return false;
+  }
+  return true;
+}
+
 int run(int argc, char** argv) {
   std::string scene_path, csv_path;
   std::vector<std::string> overrides;
@@ -49,6 +102,7 @@ int run(int argc, char** argv) {
       overrides.push_back(value("--set"));
     } else if (arg == "--csv") {
       csv_path = value("--csv");
+      if (csv_path.empty()) throw xfdem::scene::SceneError("--csv: must name a file (got an empty path)");
     } else if (arg == "--threads") {
       const std::string t = value("--threads");
       if (t != "1" && t != "2") throw xfdem::scene::SceneError("--threads: must be 1 or 2 (got '" + t + "')");
@@ -73,27 +127,7 @@ int run(int argc, char** argv) {
     std::cerr << "xfdem: " << what << "\n";
     return what.rfind("step ", 0) == 0 ? 3 : 2;
   }
-  if (csv_path.empty()) {
-    std::cout << buffer.str();
-  } else {
-    const std::string temporary = csv_path + ".partial";
-    {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      out << buffer.str();
-      if (!out) {
-        std::cerr << "xfdem: cannot write '" << temporary << "'\n";
-        std::remove(temporary.c_str());
-        return 2;
-      }
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, csv_path, ec);
-    if (ec) {
-      std::cerr << "xfdem: cannot move output into '" << csv_path << "': " << ec.message() << "\n";
-      std::remove(temporary.c_str());
-      return 2;
-    }
-  }
+  if (!write_output(csv_path, buffer.str())) return 2;
   std::fprintf(stderr, "xfdem: %s: %lld steps, wall %.3f s, mean %.3f us/step, worst %.3f us/step\n",
                scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
                summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);

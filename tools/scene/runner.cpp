@@ -30,6 +30,34 @@ std::string dem_stages(const DemModel<D>& m, const DemState<D>& s, const DemProf
   return text;
 }
 
+/// A build failure as the scene key the user wrote and the reason. The kernel
+/// names its own description's fields ("dt: …", "particles[1].mass: …");
+/// `block` is where that description sits in the scene ("dem", "continuum"),
+/// and the few fields the scene keeps elsewhere are renamed. A coupled
+/// model's particles step at dt / dem_substeps: their "dt" is that substep.
+SceneError build_error(const std::string& block, const std::string& message, bool substep = false) {
+  const std::size_t colon = message.find(": ");
+  std::string field = colon == std::string::npos ? std::string() : message.substr(0, colon);
+  std::string reason = colon == std::string::npos ? message : message.substr(colon + 2);
+  std::string key;
+  if (field == "dt" || field.rfind("time.", 0) == 0) {
+    key = field == "dt" ? "time.dt" : field;
+    if (field == "dt" && substep) reason = "the particle substep time.dt / time.dem_substeps = " + reason +
+                                           "; reduce time.dt or raise time.dem_substeps";
+  } else if (block == "dem" && field == "damping_ratio") {
+    key = "dem.contact.damping_ratio";
+  } else if (block == "continuum" && (field == "beta" || field == "gamma")) {
+    key = "continuum.newmark." + field;
+  } else if (field == "dem_substeps") {
+    key = "time.dem_substeps";
+  } else if (field.empty()) {
+    key = block;
+  } else {
+    key = block + "." + field;
+  }
+  return SceneError("scene key '" + key + "': " + reason);
+}
+
 void write_value(std::ostream& out, double value) {
   char text[40];
   std::snprintf(text, sizeof(text), "%.17g", value);
@@ -42,7 +70,7 @@ class DemSystem {
  public:
   DemSystem(const DemDesc<D>& desc, ParallelFor parallel) {
     const BuildResult built = build_dem(desc, model_, state_, workspace_);
-    if (!built.ok()) throw SceneError(std::string("scene key 'dem.") + built.message);
+    if (!built.ok()) throw build_error("dem", built.message);
     workspace_.parallel = parallel;
   }
   void time_stages(bool on) { workspace_.clock_ns = on ? &platform::monotonic_ns : nullptr; }
@@ -76,7 +104,7 @@ class BarSystem {
  public:
   explicit BarSystem(const BarDesc& desc) {
     const BuildResult built = build_bar(desc, model_, state_, workspace_);
-    if (!built.ok()) throw SceneError(std::string("scene key 'continuum.") + built.message);
+    if (!built.ok()) throw build_error("continuum", built.message);
   }
   StepStatus step() { return bar_step(model_, state_, workspace_); }
   void time_stages(bool) {}
@@ -109,11 +137,11 @@ class CoupledSystem {
   explicit CoupledSystem(const Scene& scene) {
     const BuildResult built = world_.build(coupled_desc(scene));
     if (!built.ok()) {
+      // "dem.…" and "bar.…" name the half; "time.dt: …" and "dem_substeps: …" the coupling's own keys.
       const std::string message = built.message;
-      // "dem.…" and "bar.…" name the scene block; "time.dt: …" names the key itself.
-      if (message.rfind("bar.", 0) == 0) throw SceneError("scene key 'continuum." + message.substr(4));
-      if (message.rfind("time.", 0) == 0) throw SceneError("scene key '" + message);
-      throw SceneError("scene key '" + message);
+      if (message.rfind("dem.", 0) == 0) throw build_error("dem", message.substr(4), true);
+      if (message.rfind("bar.", 0) == 0) throw build_error("continuum", message.substr(4));
+      throw build_error("time", message);
     }
   }
   StepStatus step() { return world_.step(); }
