@@ -2,7 +2,8 @@
 // continuum step plus its n = 10 particle substeps, FE-DEM and X-FE-DEM, from
 // warm states: in free flight (t = 0.5 s: one pass per window) and with both
 // particles resting on the rod (t = 8 s: the window is iterated to its fixed
-// point, typically three passes). Each batch restores the warm state.
+// point: one pass once the window's sensitivity is measured, see
+// docs/coupling.md). Each batch restores the warm state.
 // `worst_ns` is the slowest single step seen (clock read around each step).
 #include <benchmark/benchmark.h>
 

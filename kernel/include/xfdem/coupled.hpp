@@ -12,11 +12,13 @@
 //     (its acceleration at t_n is re-evaluated with f̄, so the impulse Newmark
 //     delivers is exactly f̄·dt).
 // The two depend on each other, so the window is iterated to the fixed point
-// f̄ = −J(f̄)/dt: a first pass with last window's force, a second with the
-// force that pass produced, then secant steps. For a linear contact on a tied
-// bar J is affine in f̄ and the secant lands on the fixed point (to round-off)
-// at the third pass; a contact that opens or closes inside the window may take
-// a few more. Without contact with the top one pass suffices. At the fixed
+// f̄ = −J(f̄)/dt: a first pass with last window's force, then Newton, secant
+// and bracketing steps. For a linear contact on a tied bar the window is
+// affine in f̄: once two passes have measured its sensitivity (the particles'
+// end state's derivative in f̄), a window that sees the same contacts settles
+// in one pass, moved along it to the root; a contact that opens or closes
+// inside the window takes a few passes. Without contact with the top one pass
+// suffices. At the fixed
 // point the particles and the bar see the same top motion and exchange equal
 // and opposite impulses, so the exchange creates no momentum and no energy
 // (the work −J·v̄ done on the bar equals the work J·v̄ the particles did).
@@ -25,6 +27,7 @@
 // docs/coupling.md gives the details and the stability map.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "xfdem/bar.hpp"
 #include "xfdem/dem.hpp"
@@ -56,6 +59,9 @@ struct CoupledModel {
   std::int32_t top_plane = -1;    ///< index of the plane that stands for the bar's top
   double top_position = 0;        ///< x of the undeformed top (the bar's length), m
   double max_contact_stiffness = 0;  ///< max over particles of k_i (the type c contact is K = k_i), N/m
+  /// Entries of CoupledState::sensitivity (the doubles of a DemState), and the
+  /// one that is the top plane's impulse: dJ/df̄.
+  std::int32_t sensitivity_size = 0, sensitivity_top_impulse = -1;
   /// ω_c of the stiffest particle–top contact, ω_c² = k (1/m_top + 1/m_p), with
   /// m_top the top node's lumped mass (rad/s).
   double coupling_omega = 0;
@@ -96,10 +102,22 @@ struct CoupledState {
   double impulse_to_particles = 0, impulse_to_bar = 0;
   /// dg/df of the window's residual g(f) = −J(f)/Δt − f, as the last window
   /// that measured it left it (0: none yet): the first step of the next
-  /// window's iteration. Within one contact set J is affine in f, so a resting
-  /// window settles in two passes.
+  /// window's iteration when the sensitivity below does not apply.
   double coupling_slope = 0;
   double coupling_slope_width = 0;  ///< the secant's width it was measured over, halved every window, N
+  /// d(particles' state)/df̄ over a window in which no contact switched: one
+  /// entry per double of DemState, in its field order (0 where a field does
+  /// not move with f̄). Within one contact set the window is affine in f̄, so
+  /// a pass at any force plus this times the force's change is the pass at the
+  /// new force: a window whose contacts match it (sensitivity_signature)
+  /// settles in one pass. Measured by the first two passes of a window that
+  /// saw the same contacts at every force evaluation.
+  std::vector<double> sensitivity;
+  double sensitivity_width = 0;  ///< |Δf̄| it was measured over, N (0: none yet)
+  /// The window it holds for: which contacts carried a force at each
+  /// evaluation (DemWorkspace::contact_signature) and the multistep
+  /// history's length at the window's start (CoupledWorkspace::pass_signature).
+  std::int64_t sensitivity_signature = 0;
   std::int32_t last_passes = 0;  ///< passes the last window needed
   std::int32_t peak_passes = 0;
   std::int64_t step = 0;
@@ -132,10 +150,18 @@ struct CoupledWorkspace {
   BarState bar_start;     ///< the bar at t_n
   /// The particles at one end of a window whose impulse jumps (coupled_step).
   DemState<1> dem_end;
+  /// The particles after a window's first pass, kept when a second pass may
+  /// measure CoupledState::sensitivity.
+  DemState<1> dem_first;
   /// A bar linear in its tip force is stepped once per window, at the first
   /// pass's force; later passes move its top along the step's response, and
   /// the window's end corrects the bar to the force it settled on.
   double first_force = 0, tip_start = 0, first_tip_end = 0;
+  /// What the last pass saw: DemWorkspace::contact_signature and the length
+  /// of the multistep history at its start; and whether its map from the
+  /// force was affine as far as the signature can tell (no located event).
+  std::int64_t pass_signature = 0;
+  bool pass_affine = false;
 };
 
 /// Builds both halves; the only allocating call. Messages name the field

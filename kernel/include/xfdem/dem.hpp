@@ -283,6 +283,12 @@ struct DemWorkspace {
   std::vector<double> plane_weighted;  ///< Σ weights · force of the step being built
   std::vector<double> plane_step_impulse;  ///< sum over the pieces of an event-split step
   std::int32_t grid_cells_used = 0;
+  /// Which contacts carried a force at each force evaluation since the host
+  /// last zeroed it, hashed in evaluation order (dem/forces.hpp, fold_contacts):
+  /// two runs with the same value saw the same contacts at the same
+  /// evaluations, but for a collision. The coupled stepper's test that its
+  /// window was affine in its input.
+  std::uint64_t contact_signature = 0;
   std::vector<double> network_row;  ///< per particle: the D × D bound matrix of network_omega2 (packed)
 };
 

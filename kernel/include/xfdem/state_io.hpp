@@ -65,6 +65,9 @@ void for_each_field(CoupledState& state, Visitor&& visit) {
   visit("", "impulse_to_bar", &state.impulse_to_bar, std::size_t{1});
   visit("", "coupling_slope", &state.coupling_slope, std::size_t{1});
   visit("", "coupling_slope_width", &state.coupling_slope_width, std::size_t{1});
+  visit("", "sensitivity", state.sensitivity.data(), state.sensitivity.size());
+  visit("", "sensitivity_width", &state.sensitivity_width, std::size_t{1});
+  visit("", "sensitivity_signature", &state.sensitivity_signature, std::size_t{1});
   visit("", "last_passes", &state.last_passes, std::size_t{1});
   visit("", "peak_passes", &state.peak_passes, std::size_t{1});
   visit("", "energy_reference", &state.energy.reference, std::size_t{1});

@@ -59,10 +59,22 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
                                 "(omega = sqrt(k (1/m_top + 1/m_particle)) = %g rad/s, m_top = %g kg); reduce time.dt",
                                 m.dt, m.coupling_omega * m.dt, kCoupledMaxOmegaDt, m.coupling_omega, m.bar.tip_mass);
   m.energy_check = desc.energy_check;
+  // The sensitivity has one entry per double of the particles' state.
+  std::int32_t doubles = 0;
+  s.dem.for_each_array([&](const char* name, auto* data, auto count) {
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    if constexpr (std::is_same_v<T, double>) {
+      if (std::strcmp(name, "plane_impulse") == 0) m.sensitivity_top_impulse = doubles + m.top_plane;
+      doubles += static_cast<std::int32_t>(count);
+    }
+  });
+  m.sensitivity_size = doubles;
+  s.sensitivity.assign(static_cast<std::size_t>(doubles), 0.0);
   coupled_restart_energy_ledger(m, s);
   w.dem_start = s.dem;
   w.bar_start = s.bar;
   w.dem_end = s.dem;
+  w.dem_first = s.dem;
   return BuildResult::success();
 }
 
@@ -106,10 +118,18 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
   const std::int64_t t1 = now();
   dem_drive_plane(m.dem, s.dem, m.top_plane, w.tip_start, (u_end - w.tip_start) / m.dt);
   s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)] = 0.0;
+  const std::int32_t history_at_start = s.dem.history_count;
+  const std::int64_t events_before = s.dem.events_located;
+  w.dem.contact_signature = 0;
   for (int k = 0; k < m.substeps; ++k) {
     status |= dem_step(m.dem, s.dem, w.dem);
     if (has(status, kStepNotTaken)) return not_taken(status);
   }
+  // What decides the window's map from the force to the particles' end: the
+  // contacts that carried a force at each evaluation and where the multistep
+  // history started. A located event makes the map nonlinear.
+  w.pass_affine = s.dem.events_located == events_before;
+  w.pass_signature = static_cast<std::int64_t>(w.dem.contact_signature * 8 + static_cast<std::uint64_t>(history_at_start));
   if (w.clock_ns) {
     w.profile.continuum_ns += t1 - t0;
     w.profile.particles_ns += now() - t1;
@@ -187,6 +207,51 @@ bool blend_particles(DemState<1>& into, const DemState<1>& other, double theta) 
   return true;
 }
 
+/// Whether a double of the particles' state moves with the window's force as
+/// the state does (affinely, within one contact set). The network's frequency
+/// bound and the particles' own energy books do not: the bound is the contact
+/// set's, and the books are unused in a coupled world (its check is off; the
+/// coupled check computes the energy from the state), so both keep the pass's.
+bool moves_with_force(const char* name) {
+  return std::strcmp(name, "network_omega2") != 0 && std::strcmp(name, "energy_reference") != 0 &&
+         std::strcmp(name, "energy_work") != 0 && std::strcmp(name, "energy_peak") != 0;
+}
+
+/// CoupledState::sensitivity = (s.dem − first) / df, field by field; 0 where
+/// the two passes agree, so that applying it leaves those bits alone.
+void measure_sensitivity(CoupledState& s, const DemState<1>& first, double df) {
+  std::size_t k = 0;
+  const_cast<DemState<1>&>(first).for_each_array([&](const char*, auto* data, auto count) {  // only read
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    if constexpr (std::is_same_v<T, double>)
+      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) s.sensitivity[k++] = data[i];
+  });
+  k = 0;
+  s.dem.for_each_array([&](const char* name, auto* data, auto count) {
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    if constexpr (std::is_same_v<T, double>) {
+      const bool moves = moves_with_force(name);
+      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i, ++k) {
+        // A field that did not change, or is not finite (a value nothing reads,
+        // or one the halves have reported), has no sensitivity.
+        const double change = data[i] - s.sensitivity[k];
+        s.sensitivity[k] = moves && change != 0.0 && std::isfinite(change) ? change / df : 0.0;
+      }
+    }
+  });
+}
+
+/// Moves the particles' state along CoupledState::sensitivity by a force change df.
+void apply_sensitivity(CoupledState& s, double df) {
+  std::size_t k = 0;
+  s.dem.for_each_array([&](const char*, auto* data, auto count) {
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    if constexpr (std::is_same_v<T, double>)
+      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i, ++k)
+        if (s.sensitivity[k] != 0.0) data[i] += df * s.sensitivity[k];
+  });
+}
+
 /// What the energy check weighs: the particles' books (dem/energy_books.hpp,
 /// the bar's top among the planes) plus the bar's algorithmic energy.
 EnergyTotals energy_totals(const CoupledModel& m, const CoupledState& s) {
@@ -243,6 +308,12 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   status |= window_pass(m, s, w, f + carried, false, J);
   if (has(status, kStepNotTaken)) return status;
   double g = -J / m.dt - f;
+  // 1e-10: J carries the round-off of ~40 weighted force sums and a bar
+  // solve (observed 1e-12 relative); what is left is carried, not lost.
+  const auto within_tolerance = [&m](double force, double impulse, double residual) {
+    return std::fabs(residual) <= 1e-10 * (std::fabs(force) + std::fabs(impulse / m.dt)) ||
+           (impulse == 0.0 && force == 0.0);
+  };
   // lo: a force with g > 0 (the root is above it); hi: one with g < 0.
   double lo = 0, g_lo = 0, hi = 0, g_hi = 0;
   bool have_lo = false, have_hi = false;
@@ -251,13 +322,40 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   int passes = 1, same_side = 0;
   s.coupling_slope_width *= 0.5;
   bool settled = false;
+  // One pass. A window that saw the contacts the sensitivity was measured
+  // with is affine in f: its root is one Newton step away, and the pass at the
+  // root is this pass moved along the sensitivity (the bar, linear in its tip
+  // force, is corrected at the end as after any window). The step is taken
+  // only within 64 measuring widths, so that the sensitivity's round-off
+  // (that of two passes over their force difference) moves the state by at
+  // most 64 times the passes' own. A root it misses (it cannot, but for
+  // round-off) is taken to a real pass below.
+  const std::int64_t first_signature = w.pass_signature;
+  const bool first_affine = w.pass_affine;
+  bool first_kept = false;  // w.dem_first holds the first pass
+  if (m.bar.linear_in_tip_force && !has(status, StepStatus::non_finite) && !within_tolerance(f, J, g) &&
+      s.sensitivity_width > 0 && first_affine && first_signature == s.sensitivity_signature) {
+    const double slope = -s.sensitivity[static_cast<std::size_t>(m.sensitivity_top_impulse)] / m.dt - 1.0;
+    const double move = -g / slope;
+    if (slope < 0 && std::isfinite(move) && std::fabs(move) <= 64 * s.sensitivity_width) {
+      apply_sensitivity(s, move);
+      f_prev = f, g_prev = g;
+      f += move;
+      J = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];
+      g = -J / m.dt - f;
+      if (!within_tolerance(f, J, g)) {
+        status |= window_pass(m, s, w, f + carried, true, J);
+        if (has(status, kStepNotTaken)) return status;
+        g = -J / m.dt - f;
+        ++passes;
+      }
+    }
+  }
   for (;;) {
     // Nothing to iterate once a value is NaN or infinite: the window is taken as it is.
     if (has(status, StepStatus::non_finite)) break;
     const double scale = std::fabs(f) + std::fabs(J / m.dt);
-    // 1e-10: J carries the round-off of ~40 weighted force sums and a bar
-    // solve (observed 1e-12 relative); what is left is carried, not lost.
-    if (std::fabs(g) <= 1e-10 * scale || (J == 0.0 && f == 0.0)) {
+    if (within_tolerance(f, J, g)) {
       settled = true;
       break;
     }
@@ -299,7 +397,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
         J = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];
         settled = true;
       } else {
-        settled = std::fabs(-J / m.dt - f) <= 1e-10 * (std::fabs(f) + std::fabs(J / m.dt));  // this end is a root
+        settled = within_tolerance(f, J, -J / m.dt - f);  // this end is a root
       }
       break;
     }
@@ -331,10 +429,22 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     f_prev = f;
     g_prev = g;
     f = f_next;
+    if (passes == 1 && m.bar.linear_in_tip_force && first_affine) {
+      w.dem_first = s.dem;  // same sizes: element-wise copies, no allocation
+      first_kept = true;
+    }
     status |= window_pass(m, s, w, f + carried, true, J);
     if (has(status, kStepNotTaken)) return status;
     g = -J / m.dt - f;
     ++passes;
+    // Two passes that saw the same contacts measure the window's sensitivity
+    // for the windows after it that see them too.
+    if (passes == 2 && first_kept && w.pass_affine && w.pass_signature == first_signature && f != f_prev &&
+        !has(status, StepStatus::non_finite)) {
+      measure_sensitivity(s, w.dem_first, f - f_prev);
+      s.sensitivity_width = std::fabs(f - f_prev);
+      s.sensitivity_signature = first_signature;
+    }
     // The slope of the widest secant: g's round-off (~1e-11 of its scale)
     // divided by the width is the slope's error. The width a cached slope was
     // measured over halves every window (below), so the slope of a new

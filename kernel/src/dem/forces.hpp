@@ -30,6 +30,24 @@ inline double normal_force(double K, double eta, double overlap, double rate) {
   return force;
 }
 
+/// Which contacts carried a force, as a number: each evaluation sums the tags
+/// of its contacts (a sum, so the two parts' halves add up in any order) and
+/// folds the sum into DemWorkspace::contact_signature after the ones before.
+/// Two runs with the same signature saw, but for a hash collision, the same
+/// contacts at the same evaluations (the coupled stepper's test that its
+/// window was affine in its input). Unsigned: wrapping is the hash's.
+inline std::uint64_t plane_contact_tag(std::int32_t n, std::size_t plane, std::int32_t i) {
+  return (static_cast<std::uint64_t>(plane) * static_cast<std::uint64_t>(n) + static_cast<std::uint64_t>(i) + 1) *
+         0xBF58476D1CE4E5B9ull;
+}
+inline std::uint64_t pair_contact_tag(std::int32_t n, std::int32_t i, std::int32_t j) {
+  return (static_cast<std::uint64_t>(i) * static_cast<std::uint64_t>(n) + static_cast<std::uint64_t>(j) + 1) *
+         0x9E3779B97F4A7C15ull;
+}
+inline void fold_contacts(std::uint64_t& signature, std::uint64_t evaluation) {
+  signature = (signature ^ evaluation) * 0x100000001B3ull;
+}
+
 /// Builds the pair list (grid broad phase) at positions x. Defined in broadphase.cpp.
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
@@ -63,15 +81,17 @@ std::array<double, D> plane_point_at(const DemModel<D>& m, const DemState<D>& s,
 
 /// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i), plane by plane
 /// (so each particle receives its plane contributions in plane order). Also
-/// sums each plane's force into w.plane_force for the impulse ledger.
+/// sums each plane's force into w.plane_force for the impulse ledger. Returns
+/// the sum of the tags of the contacts that carried a force (contact_tag).
 template <int D, bool Damped, bool NonTensile>
-void plane_forces(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, ConstColumns<D> x,
+std::uint64_t plane_forces(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, ConstColumns<D> x,
                   ConstColumns<D> v, Columns<D> a, std::int32_t begin, std::int32_t end, double* totals) {
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const double* stiffness = m.stiffness.data();
   const double* plane_eta = m.plane_eta.data();
   const std::size_t planes = m.plane_point.size();
+  std::uint64_t active = 0;
   for (std::size_t p = 0; p < planes; ++p) {
     const std::array<double, D> point = plane_point_at(m, s, p, w.eval_time);
     const auto& normal = m.plane_normal[p];
@@ -86,6 +106,7 @@ void plane_forces(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace
       if constexpr (Damped)
         for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
       const double force = normal_force<Damped, NonTensile>(stiffness[i], plane_eta[i], overlap, rate);
+      active += force != 0.0 ? plane_contact_tag(m.n, p, i) : 0;
       total += force;
       const double scaled = force * inv_mass[i];
       for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
@@ -105,6 +126,7 @@ void plane_forces(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace
     }
     totals[p] = total;
   }
+  return active;
 }
 
 /// True if a particle of [begin, end) moved more than skin/2 since the pair
@@ -136,7 +158,8 @@ bool moved_past_half_skin(const DemModel<D>& m, const DemState<D>& s, ConstColum
 /// part 1 may write its own particles meanwhile); split = n: no cross buffer.
 template <int D, bool Damped, bool NonTensile>
 StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<D> x, ConstColumns<D> v,
-                       Columns<D> a, std::int32_t begin, std::int32_t end, std::int32_t split, Columns<D> cross) {
+                       Columns<D> a, std::int32_t begin, std::int32_t end, std::int32_t split, Columns<D> cross,
+                       std::uint64_t& active) {
   constexpr std::int32_t kChunk = 512;
   std::int32_t touching[kChunk];
   double kept_dx[D][kChunk], kept_dist2[kChunk], kept_reach[kChunk];
@@ -169,6 +192,7 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
     if constexpr (Damped)
       for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
     const double force = normal_force<Damped, NonTensile>(pair_k[c], pair_eta[c], reach - dist, rate);
+    active += force != 0.0 ? pair_contact_tag(m.n, i, j) : 0;
     const double fi = force * inv_mass[i], fj = force * inv_mass[j];
     for (int d = 0; d < D; ++d) {
       a[d][i] -= fi * normal[d];
@@ -224,6 +248,8 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
         force = _mm_add_pd(force, _mm_mul_pd(_mm_set_pd(pair_eta[cb], pair_eta[ca]), rate));
       }
       if constexpr (NonTensile) force = _mm_max_pd(zero, force);  // = std::max(force, 0.0), NaN and -0 alike
+      const int carried = _mm_movemask_pd(_mm_cmpneq_pd(force, zero));
+      active += ((carried & 1) ? pair_contact_tag(m.n, ia, ja) : 0) + ((carried & 2) ? pair_contact_tag(m.n, ib, jb) : 0);
       const __m128d fi = _mm_mul_pd(force, _mm_set_pd(inv_mass[ib], inv_mass[ia]));
       const __m128d fj = _mm_mul_pd(force, _mm_set_pd(inv_mass[jb], inv_mass[ja]));
       alignas(16) double on_i[D][2], on_j[D][2];
@@ -271,25 +297,35 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     const std::size_t planes = m.plane_point.size();
     if (m.parts == 1) {
       gravity(0, n);
-      plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
-      if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
-      if (grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
-        const StepStatus built = build_pair_list<D>(m, s, w, x);
-        if (built != StepStatus::ok) return built;
+      std::uint64_t active = plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
+      StepStatus status = StepStatus::ok;
+      if (m.features.broad_phase != BroadPhase::none) {
+        if (grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
+          const StepStatus built = build_pair_list<D>(m, s, w, x);
+          if (built != StepStatus::ok) return built;
+        }
+        status = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, s.pair_count, n, a, active);
       }
-      return pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, s.pair_count, n, a);
+      fold_contacts(w.contact_signature, active);
+      return status;
     }
     // Two parts: particles [0, split) and [split, n). Phase 1: each part's
     // gravity, plane contacts (totals per part) and displacement check.
     bool moved[2] = {false, false};
+    std::uint64_t active[2] = {0, 0};  // per part; sums of integers, so the total is the same either way
     for_parts(w.parallel, 2, [&](int part) {
       const std::int32_t begin = part == 0 ? 0 : m.split, end = part == 0 ? m.split : n;
       gravity(begin, end);
-      plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, begin, end, w.plane_force_part.data() + part * planes);
+      active[part] =
+          plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, begin, end, w.plane_force_part.data() + part * planes);
       if (grid && s.pairs_valid) moved[part] = moved_past_half_skin<D>(m, s, x, begin, end);
     });
     for (std::size_t p = 0; p < planes; ++p) w.plane_force[p] = w.plane_force_part[p] + w.plane_force_part[planes + p];
-    if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
+    std::uint64_t carried = active[0] + active[1];
+    if (m.features.broad_phase == BroadPhase::none) {
+      fold_contacts(w.contact_signature, carried);
+      return StepStatus::ok;
+    }
     if (grid && (!s.pairs_valid || moved[0] || moved[1])) {
       const StepStatus built = build_pair_list<D>(m, s, w, x);  // rare: on one thread
       if (built != StepStatus::ok) return built;
@@ -306,11 +342,15 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     for_parts(w.parallel, 2, [&](int part) {
       if (part == 0) {
         for (int d = 0; d < D; ++d) std::fill(w.cross[d].begin(), w.cross[d].end(), 0.0);
-        part_status[0] = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, boundary, m.split, cross);
+        active[0] = 0;
+        part_status[0] = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, boundary, m.split, cross, active[0]);
       } else {
-        part_status[1] = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, boundary, s.pair_count, n, cross);
+        active[1] = 0;
+        part_status[1] =
+            pair_forces<D, Damped, NonTensile>(m, s, x, v, a, boundary, s.pair_count, n, cross, active[1]);
       }
     });
+    fold_contacts(w.contact_signature, carried + active[0] + active[1]);
     // Phase 3: part 0's contributions to part 1's particles, in a fixed order.
     for (int d = 0; d < D; ++d)
       for (std::int32_t j = m.split; j < n; ++j) a[d][j] += cross[d][j - m.split];
@@ -325,6 +365,7 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
 
   // Particle–plane contacts (K = k_i, m_eff = m_i).
   const std::size_t planes = m.plane_point.size();
+  std::uint64_t carried = 0;
   for (std::size_t p = 0; p < planes; ++p) {
     // The frozen set is decided at the interval start, with the plane where it
     // was then (w.mode_time); the force uses the plane where it is now.
@@ -347,6 +388,7 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
       if constexpr (Damped)
         for (int d = 0; d < D; ++d) rate -= v[d][i] * normal[d];
       const double force = normal_force<Damped, false>(stiffness[i], plane_eta[i], overlap, rate);
+      carried += force != 0.0 ? plane_contact_tag(m.n, p, i) : 0;
       total += force;
       const double scaled = force * inv_mass[i];
       for (int d = 0; d < D; ++d) a[d][i] += scaled * normal[d];
@@ -355,7 +397,10 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   }
 
   // Particle–particle contacts from the pair list.
-  if (m.features.broad_phase == BroadPhase::none) return StepStatus::ok;
+  if (m.features.broad_phase == BroadPhase::none) {
+    fold_contacts(w.contact_signature, carried);
+    return StepStatus::ok;
+  }
   StepStatus status = StepStatus::ok;
   if (m.features.broad_phase == BroadPhase::grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
     status = build_pair_list<D>(m, s, w, x);
@@ -389,12 +434,14 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     if constexpr (Damped)
       for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * normal[d];
     const double force = normal_force<Damped, false>(pair_k[c], pair_eta[c], reach - dist, rate);
+    carried += force != 0.0 ? pair_contact_tag(m.n, i, j) : 0;
     const double fi = force * inv_mass[i], fj = force * inv_mass[j];
     for (int d = 0; d < D; ++d) {
       a[d][i] -= fi * normal[d];
       a[d][j] += fj * normal[d];
     }
   }
+  fold_contacts(w.contact_signature, carried);
   return status;
 }
 
