@@ -201,6 +201,18 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
     return flag;
   };
   StepStatus status = StepStatus::ok;
+  // A short list (a few particles, all_pairs): the screening pass's chunk
+  // bookkeeping costs more than it saves. The same test, then the same force.
+  constexpr std::int32_t kShortList = 8;
+  if (end - begin <= kShortList) {
+    for (std::int32_t c = begin; c < end; ++c) {
+      const std::int32_t i = pi[c], j = pj[c];
+      double dx[D];
+      const double reach = radius[i] + radius[j];
+      if (separation<D>(x, i, j, dx) < reach * reach) status |= one(c);  // false for NaN, as below
+    }
+    return status;
+  }
   for (std::int32_t c0 = begin; c0 < end; c0 += kChunk) {
     const std::int32_t c1 = std::min(end, c0 + kChunk);
     std::int32_t hits = 0;

@@ -139,14 +139,20 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
 template <int D>
 void commit(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc,
             const std::vector<double>& impulse) {
-  const std::int32_t slot = (s.history_head + 1) % 4;
+  const std::int32_t slot = (s.history_head + 1) & 3;  // head is in [0, 4): & 3 is % 4 without the sign fix-up
   for (int d = 0; d < D; ++d) {
     s.x[d].swap(w.x1[d]);
     s.v[d].swap(w.v1[d]);
     s.hist_a[slot][d].swap(acc[d]);
   }
+  // A plain loop, not std::copy: for the few particles of a coupled scene the
+  // memmove call costs more than the copy.
   over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
-    for (int d = 0; d < D; ++d) std::copy(s.v[d].begin() + begin, s.v[d].begin() + end, s.hist_v[slot][d].begin() + begin);
+    for (int d = 0; d < D; ++d) {
+      const double* v = s.v[d].data();
+      double* kept = s.hist_v[slot][d].data();
+      for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
+    }
   });
   s.hist_plane_force[slot].swap(w.plane_force);  // w.plane_force is rewritten by every evaluation
   for (std::size_t p = 0; p < impulse.size(); ++p) s.plane_impulse[p] += impulse[p];
@@ -241,7 +247,7 @@ StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorksp
 template <int D>
 StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> predict_kernel) {
   const double c = m.dt / 24.0;
-  const int f0 = s.history_head, f1 = (f0 + 3) % 4, f2 = (f0 + 2) % 4, f3 = (f0 + 1) % 4;
+  const int f0 = s.history_head, f1 = (f0 + 3) & 3, f2 = (f0 + 2) & 3, f3 = (f0 + 1) & 3;  // head in [0, 4)
   double probe[2] = {0, 0};
   over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
