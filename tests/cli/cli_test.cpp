@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "support/command.hpp"
+#include "xfdem/platform/memory.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -113,7 +114,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"--set energy_check.every=4", "scene key 'energy_check.every': unknown key"},
         // end/dt = 6e29 steps: rejected, not cast past int64 (found by the loader fuzzer)
         BadInput{"--set time.dt=1e-29 --set output.every=1e-29", "scene key 'time.end': needs more than 4e9 steps"},
-        BadInput{"--frobnicate", "unknown option '--frobnicate'"}));
+        BadInput{"--frobnicate", "unknown option '--frobnicate'"},
+        // capacities: the index type bounds them (memory is the build's to say), and one the model would not use is refused
+        BadInput{"--set dem.capacities.max_pairs=2000000001",
+                 "scene key 'dem.capacities.max_pairs': must be an integer in [0, 2000000000] (got 2000000001)"},
+        BadInput{"--set dem.capacities.max_grid_cells=1000",
+                 "scene key 'dem.capacities.max_grid_cells': not used: 1 particle has no pairs to list"},
+        BadInput{"--set dem.capacities.max_events_per_step=3",
+                 "scene key 'dem.capacities.max_events_per_step': not used: only dem.integrator abm4_events locates "
+                 "contact events (this scene's is abm4)"}));
 
 // A coupled scene's particles step at time.dt / time.dem_substeps: past their
 // stable step, the message names time.dt, the substep and what to change.
@@ -126,6 +135,42 @@ TEST(Cli, CoupledSubstepPastTheStableStepNamesTimeDt) {
             std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("reduce time.dt or raise time.dem_substeps"), std::string::npos) << r.err;
+}
+
+/// Bytes as the kernel's messages print them ("25.3 GB").
+std::string bytes_text(double bytes) {
+  const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
+  int unit = 0;
+  while (unit < 5 && bytes >= 999.5) bytes /= 1000.0, ++unit;
+  char text[32];
+  std::snprintf(text, sizeof(text), unit == 0 ? "%.0f %s" : "%.3g %s", bytes, units[unit]);
+  return text;
+}
+
+// A capacity whose arrays would take more than the machine's memory is refused
+// before anything is allocated, naming the key and what it would take. In Case
+// II it is refused as unused unless the particles are put on a grid.
+TEST(Cli, CapacityPastTheMachinesMemoryIsRefusedNamingTheKey) {
+  const fs::path csv = scratch() / "never.csv";
+  Result r = run("run " + scene("case2_xfem.json") + " --set dem.capacities.max_pairs=400000000 --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': not used: 2 particles, at most dem.all_pairs_up_to = 8, "
+                       "are paired all with all in a fixed list; it bounds the grid that more particles use"),
+            std::string::npos)
+      << r.err;
+  // 2e9 pairs in the particle state and the coupled window's two copies of it: 144 GB.
+  const std::uint64_t memory = xfdem::platform::physical_memory_bytes();
+  if (memory == 0 || memory >= 144'000'000'000ull) GTEST_SKIP() << "this machine has " << bytes_text(double(memory));
+  r = run("run " + scene("case2_xfem.json") +
+          " --set dem.all_pairs_up_to=0 --set dem.capacities.max_pairs=2000000000 --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 2000000000 pairs take 144 GB of the 144 GB the "
+                       "particles' arrays need (24 bytes a pair, in the state and the coupled window's 2 copies of "
+                       "it), more than the memory budget of " +
+                       bytes_text(static_cast<double>(memory)) + " (this machine's physical memory)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(csv));
 }
 
 // Output errors: an empty --csv, a directory, and a write that fails (a full

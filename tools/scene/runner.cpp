@@ -30,34 +30,6 @@ std::string dem_stages(const DemModel<D>& m, const DemState<D>& s, const DemProf
   return text;
 }
 
-/// A build failure as the scene key the user wrote and the reason. The kernel
-/// names its own description's fields ("dt: …", "particles[1].mass: …");
-/// `block` is where that description sits in the scene ("dem", "continuum"),
-/// and the few fields the scene keeps elsewhere are renamed. A coupled
-/// model's particles step at dt / dem_substeps: their "dt" is that substep.
-SceneError build_error(const std::string& block, const std::string& message, bool substep = false) {
-  const std::size_t colon = message.find(": ");
-  std::string field = colon == std::string::npos ? std::string() : message.substr(0, colon);
-  std::string reason = colon == std::string::npos ? message : message.substr(colon + 2);
-  std::string key;
-  if (field == "dt" || field.rfind("time.", 0) == 0) {
-    key = field == "dt" ? "time.dt" : field;
-    if (field == "dt" && substep) reason = "the particle substep time.dt / time.dem_substeps = " + reason +
-                                           "; reduce time.dt or raise time.dem_substeps";
-  } else if (block == "dem" && field == "damping_ratio") {
-    key = "dem.contact.damping_ratio";
-  } else if (block == "continuum" && (field == "beta" || field == "gamma")) {
-    key = "continuum.newmark." + field;
-  } else if (field == "dem_substeps") {
-    key = "time.dem_substeps";
-  } else if (field.empty()) {
-    key = block;
-  } else {
-    key = block + "." + field;
-  }
-  return SceneError("scene key '" + key + "': " + reason);
-}
-
 void write_value(std::ostream& out, double value) {
   char text[40];
   std::snprintf(text, sizeof(text), "%.17g", value);
@@ -68,9 +40,9 @@ void write_value(std::ostream& out, double value) {
 template <int D>
 class DemSystem {
  public:
-  DemSystem(const DemDesc<D>& desc, ParallelFor parallel) {
+  DemSystem(const Scene& scene, const DemDesc<D>& desc, ParallelFor parallel) {
     const BuildResult built = build_dem(desc, model_, state_, workspace_);
-    if (!built.ok()) throw build_error("dem", built.message);
+    if (!built.ok()) throw build_refusal(scene, Built::dem, built);
     workspace_.parallel = parallel;
   }
   void time_stages(bool on) { workspace_.clock_ns = on ? &platform::monotonic_ns : nullptr; }
@@ -102,9 +74,9 @@ class DemSystem {
 /// A bar alone (V2).
 class BarSystem {
  public:
-  explicit BarSystem(const BarDesc& desc) {
+  BarSystem(const Scene& scene, const BarDesc& desc) {
     const BuildResult built = build_bar(desc, model_, state_, workspace_);
-    if (!built.ok()) throw build_error("continuum", built.message);
+    if (!built.ok()) throw build_refusal(scene, Built::continuum, built);
   }
   StepStatus step() { return bar_step(model_, state_, workspace_); }
   void time_stages(bool) {}
@@ -136,13 +108,7 @@ class CoupledSystem {
  public:
   explicit CoupledSystem(const Scene& scene) {
     const BuildResult built = world_.build(coupled_desc(scene));
-    if (!built.ok()) {
-      // "dem.…" and "bar.…" name the half; "time.dt: …" and "dem_substeps: …" the coupling's own keys.
-      const std::string message = built.message;
-      if (message.rfind("dem.", 0) == 0) throw build_error("dem", message.substr(4), true);
-      if (message.rfind("bar.", 0) == 0) throw build_error("continuum", message.substr(4));
-      throw build_error("time", message);
-    }
+    if (!built.ok()) throw build_refusal(scene, Built::coupled, built);
   }
   StepStatus step() { return world_.step(); }
   void time_stages(bool on) { world_.workspace.clock_ns = on ? &platform::monotonic_ns : nullptr; }
@@ -232,7 +198,7 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
 
 template <int D>
 RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv, ParallelFor parallel) {
-  DemSystem<D> system(desc, parallel);
+  DemSystem<D> system(scene, desc, parallel);
   return run_system(scene, system, csv);
 }
 
@@ -254,7 +220,7 @@ RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel);
   if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv, parallel);
   if (scene.bar) {
-    BarSystem system(*scene.bar);
+    BarSystem system(scene, *scene.bar);
     return run_system(scene, system, csv);
   }
   throw SceneError("scene: nothing to run");
