@@ -14,6 +14,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#if defined(__SANITIZE_ADDRESS__)
+#define XFDEM_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define XFDEM_UNDER_ASAN 1
+#endif
+#endif
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -171,6 +179,38 @@ TEST(Cli, CapacityPastTheMachinesMemoryIsRefusedNamingTheKey) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(csv));
+}
+
+// Where the system refuses memory the budget allowed (here an address-space
+// limit), the run stops with a message and exit code 2, never a crash: in the
+// kernel's build, naming the key, and while the CSV (held in memory until the
+// run ends) grows, naming the step.
+TEST(Cli, OutOfMemoryIsReportedNotACrash) {
+#ifdef XFDEM_UNDER_ASAN
+  GTEST_SKIP() << "the sanitizer's shadow memory needs more address space than the limit leaves";
+#endif
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  const auto limited = [](const char* kilobytes, const std::string& args) {
+    return xfdem::testing::run_command(std::string("ulimit -v ") + kilobytes + " && " + XFDEM_CLI, args);
+  };
+  Result r = limited("400000", "run " + scene("case2_xfem.json") +
+                                   " --set dem.all_pairs_up_to=0 --set dem.capacities.max_pairs=100000000 --csv " +
+                                   csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 100000000 pairs take 7.2 GB of the 7.2 GB the "
+                       "particles' arrays need (24 bytes a pair, in the state and the coupled window's 2 copies of "
+                       "it): the allocator could not provide them"),
+            std::string::npos)
+      << r.err;
+  r = limited("200000", "run " + scene("v1_k1e4.json") +
+                            " --set time.dt=1e-3 --set time.end=4000 --set output.every=1e-3 --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("xfdem: out of memory at step ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("): the CSV, held in memory until the run ends, could not grow past "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" rows; raise output.every or shorten time.end"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_FALSE(fs::exists(csv.string() + ".partial"));
 }
 
 // Output errors: an empty --csv, a directory, and a write that fails (a full

@@ -8,7 +8,10 @@
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 
+#include <memory>
+#include <new>
 #include <optional>
+#include <utility>
 
 namespace xfdem::scene {
 namespace {
@@ -163,7 +166,13 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
     }
     csv << '\n';
   };
-  row(0);
+  std::int64_t rows = 0;
+  const auto checked_row = [&](std::int64_t step) {
+    row(step);
+    if (!csv) throw OutputError(step, static_cast<double>(step) * scene.dt, rows);
+    ++rows;
+  };
+  checked_row(0);
   RunSummary summary;
   const std::int64_t start = platform::monotonic_ns();
   std::int64_t worst = 0;
@@ -186,7 +195,7 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
                     static_cast<double>(step) * scene.dt, describe(status, text, sizeof(text)));
       throw SceneError(message);
     }
-    if (step % scene.output_stride == 0) row(step);
+    if (step % scene.output_stride == 0) checked_row(step);
   }
   summary.steps = scene.steps;
   summary.wall_seconds = static_cast<double>(platform::monotonic_ns() - start) * 1e-9;
@@ -196,13 +205,35 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
   return summary;
 }
 
+/// A system built from the scene. The kernel reports its own arrays' failures
+/// by key; an allocation refused around them (copying the descriptions) is
+/// reported here.
+template <class System, class... Args>
+std::unique_ptr<System> build_system(Args&&... args) {
+  try {
+    return std::make_unique<System>(std::forward<Args>(args)...);
+  } catch (const std::bad_alloc&) {
+    throw SceneError("out of memory while building the scene's model");
+  }
+}
+
 template <int D>
 RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv, ParallelFor parallel) {
-  DemSystem<D> system(scene, desc, parallel);
-  return run_system(scene, system, csv);
+  const auto system = build_system<DemSystem<D>>(scene, desc, parallel);
+  return run_system(scene, *system, csv);
+}
+
+std::string output_error_text(std::int64_t step, double time, std::int64_t rows) {
+  char text[200];
+  std::snprintf(text, sizeof(text), "the CSV output failed at step %" PRId64 " (t = %.17g s), after %" PRId64 " rows",
+                step, time, rows);
+  return text;
 }
 
 }  // namespace
+
+OutputError::OutputError(std::int64_t step_, double time_, std::int64_t rows_)
+    : SceneError(output_error_text(step_, time_, rows_)), step(step_), rows(rows_), time(time_) {}
 
 RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads < 1 || threads > 2) throw SceneError("--threads: must be 1 or 2");
@@ -213,15 +244,15 @@ RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads == 2) pool.emplace();
   const ParallelFor parallel = pool ? pool->parallel_for() : ParallelFor{};
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
-    CoupledSystem system(scene);
-    return run_system(scene, system, csv);
+    const auto system = build_system<CoupledSystem>(scene);
+    return run_system(scene, *system, csv);
   }
   if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel);
   if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel);
   if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv, parallel);
   if (scene.bar) {
-    BarSystem system(scene, *scene.bar);
-    return run_system(scene, system, csv);
+    const auto system = build_system<BarSystem>(scene, *scene.bar);
+    return run_system(scene, *system, csv);
   }
   throw SceneError("scene: nothing to run");
 }
