@@ -128,6 +128,11 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene key 'dem.capacities.max_pairs': must be an integer in [0, 2000000000] (got 2000000001)"},
         BadInput{"--set dem.capacities.max_grid_cells=1000",
                  "scene key 'dem.capacities.max_grid_cells': not used: 1 particle has no pairs to list"},
+        // a start deeper in the ground than the radius (moderate overlaps are legal)
+        BadInput{"--set dem.particles.0.position=[-0.5]",
+                 "scene key 'dem.particles.0.position': particle 'p1' overlaps plane 'plane0' by 0.6 m at the start, "
+                 "more than its radius 0.1 m (its centre is on the plane's solid side): its contact would throw it out "
+                 "at up to 60 m/s"},
         BadInput{"--set dem.capacities.max_events_per_step=3",
                  "scene key 'dem.capacities.max_events_per_step': not used: only dem.integrator abm4_events locates "
                  "contact events (this scene's is abm4)"}));
@@ -145,6 +150,31 @@ TEST(Cli, CoupledSubstepPastTheStableStepNamesTimeDt) {
   EXPECT_NE(r.err.find("reduce time.dt or raise time.dem_substeps"), std::string::npos) << r.err;
 }
 
+// A particle starting inside the bar, or deeper in another particle than the
+// smaller radius, is refused naming it by key and by name; resting on the tip
+// at half its radius is legal.
+TEST(Cli, AParticleStartingInsideTheBarOrAnotherIsRefusedNamingIt) {
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  Result r = run("run " + scene("case1_xfem.json") + " --set dem.particles.0.position=[28.5] --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.particles.0.position': particle 'p1' overlaps the bar's tip by 2 m at the "
+                       "start, more than its radius 0.5 m (its centre is inside the bar): its contact would throw it "
+                       "out at up to 707 m/s"),
+            std::string::npos)
+      << r.err;
+  r = run("run " + scene("case2_xfem.json") + " --set dem.particles.1.position=[33.6] --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.particles.1.position': particle 'p2' overlaps particle 'p1' by 0.7 m at the "
+                       "start, more than the smaller radius 0.3 m: their contact would throw them apart at up to 271 m/s"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+  r = run("run " + scene("case1_xfem.json") + " --set dem.particles.0.position=[30.25] --set time.end=0.1 --csv " +
+          (scratch() / "resting.csv").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 /// Bytes as the kernel's messages print them ("25.3 GB").
 std::string bytes_text(double bytes) {
   const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
@@ -160,6 +190,7 @@ std::string bytes_text(double bytes) {
 // II it is refused as unused unless the particles are put on a grid.
 TEST(Cli, CapacityPastTheMachinesMemoryIsRefusedNamingTheKey) {
   const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
   Result r = run("run " + scene("case2_xfem.json") + " --set dem.capacities.max_pairs=400000000 --csv " + csv.string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': not used: 2 particles, at most dem.all_pairs_up_to = 8, "

@@ -1,6 +1,7 @@
 // What build_coupled refuses beyond its halves' own checks, and how: the
 // memory budget counts the coupled window's copies of the particles' state,
-// and an allocation the system refuses (in either half) is a refusal.
+// an allocation the system refuses (in either half) is a refusal, and a
+// particle may not start inside the bar.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -74,6 +75,30 @@ TEST(CoupledBuild, AnAllocationTheSystemRefusesIsARefusalNotAnException) {
     EXPECT_EQ(std::string(r.message), "elements: the allocator could not provide the arrays of 1000000 elements");
     EXPECT_FALSE(model.built);
   }
+}
+
+TEST(CoupledBuild, AParticleStartingInsideTheBarIsRefusedNamingIt) {
+  CoupledDesc d = coupled_scene("case1_xfem.json");  // m = 100 kg, r = 0.5 m, k = 1e7 N/m; tip at 30 m
+  d.dem.particles[0].position = {28.5};
+  CoupledWorld w;
+  BuildResult r = w.build(d);
+  EXPECT_EQ(r.code, BuildResult::Code::invalid_argument);
+  // ω = √(k (1/m_top + 1/m)), m_top = 400 kg (the tip's share of the top element): 354 rad/s.
+  EXPECT_EQ(std::string(r.message),
+            "dem.particles[0].position: overlaps the bar's tip by 2 m at the start, more than its radius 0.5 m (its "
+            "centre is inside the bar): its contact would throw it out at up to 707 m/s");
+  EXPECT_EQ(w.step(), StepStatus::not_built);
+  d.dem.particles[0].position = {30.0};  // centre on the tip: overlap = radius
+  EXPECT_TRUE(w.build(d).ok());
+  d.dem.particles[0].position = {30.25};  // resting at half its radius
+  EXPECT_TRUE(w.build(d).ok());
+  // Particle pairs as build_dem checks them.
+  CoupledDesc two = coupled_scene("case2_xfem.json");
+  two.dem.particles[1].position = {33.6};
+  r = w.build(two);
+  EXPECT_EQ(std::string(r.message),
+            "dem.particles[1].position: overlaps particles[0] by 0.7 m at the start, more than the smaller radius 0.3 "
+            "m: their contact would throw them apart at up to 271 m/s");
 }
 
 }  // namespace

@@ -146,8 +146,9 @@ struct CoupledWorkspace {
 
 /// Builds both halves; the only allocating call. Messages name the field
 /// ("dem.particles[0].mass: ...", "bar.interface.position: ..."). Besides
-/// build_dem's and build_bar's refusals it refuses particle arrays past
-/// max_memory_bytes (before allocating); it never throws.
+/// build_dem's and build_bar's refusals it refuses a particle that starts
+/// overlapping the bar's tip by more than its radius (its centre inside the
+/// bar), and particle arrays past max_memory_bytes (before allocating).
 BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& model, CoupledState& state,
                           CoupledWorkspace& workspace);
 

@@ -325,9 +325,13 @@ struct DemWorkspace {
 
 /// Validates `desc` and sizes model, state and workspace. The only call that
 /// allocates. On failure the message names the field ("particles[3].mass").
-/// Besides each field's own range it refuses arrays past
-/// DemDesc::max_memory_bytes, before allocating, and arrays the allocator could
-/// not provide (Code::memory): it never throws.
+/// Besides each field's own range it refuses, naming the particle:
+///  - a particle that starts overlapping a plane by more than its radius (its
+///    centre on the solid side), or another particle by more than the smaller
+///    radius: its contact would throw it out at a speed no scene means
+///    (invalid_argument; only the initial state is checked, a step may go deeper);
+///  - arrays past DemDesc::max_memory_bytes, before allocating, and arrays the
+///    allocator could not provide (memory): it never throws.
 template <int D>
 BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
 

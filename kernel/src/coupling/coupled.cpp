@@ -22,6 +22,26 @@ constexpr const char* kDemStatesNote = ", in the state and the coupled window's 
 
 BuildResult prefixed(const char* prefix, const BuildResult& r) { return BuildResult::failure(r.code, "%s%s", prefix, r.message); }
 
+/// A particle starting deeper in the bar's tip than its radius (its centre
+/// inside the bar). Particles build_dem will refuse for their own values are
+/// left to it.
+BuildResult check_tip_overlaps(const DemDesc<1>& dem, double top, double top_mass) {
+  for (std::size_t i = 0; i < dem.particles.size(); ++i) {
+    const ParticleDesc<1>& p = dem.particles[i];
+    const bool valid = std::isfinite(p.position[0]) && std::isfinite(p.radius) && p.radius > 0 &&
+                       std::isfinite(p.mass) && p.mass > 0 && std::isfinite(p.stiffness) && p.stiffness > 0;
+    const double overlap = p.radius - (p.position[0] - top);
+    if (!valid || !(overlap > p.radius)) continue;
+    char speed[32];
+    dem_detail::format_speed(overlap * std::sqrt(p.stiffness * (1.0 / top_mass + 1.0 / p.mass)), speed, sizeof(speed));
+    return BuildResult::failure(BuildResult::Code::invalid_argument,
+                                "dem.particles[%zu].position: overlaps the bar's tip by %g m at the start, more than its "
+                                "radius %g m (its centre is inside the bar): its contact would throw it out at up to %s",
+                                i, overlap, p.radius, speed);
+  }
+  return BuildResult::success();
+}
+
 /// build_coupled() after its checks. May throw std::bad_alloc.
 BuildResult build_coupled_sized(const CoupledDesc& desc, const DemDesc<1>& dem, CoupledModel& m, CoupledState& s,
                                 CoupledWorkspace& w) {
@@ -30,6 +50,7 @@ BuildResult build_coupled_sized(const CoupledDesc& desc, const DemDesc<1>& dem, 
   bar.energy_check = kEnergyCheckOff;
   BuildResult r = build_bar(bar, m.bar, s.bar, w.bar);
   if (!r.ok()) return prefixed("bar.", r);
+  if (r = check_tip_overlaps(dem, desc.bar.length, m.bar.tip_mass); !r.ok()) return r;
   r = build_dem(dem, m.dem, s.dem, w.dem);
   // Out of memory: said with the coupled world's counts (its copies of the state).
   if (r.code == BuildResult::Code::memory) throw std::bad_alloc();

@@ -97,6 +97,58 @@ void size_columns(std::array<std::vector<double>, D>& c, std::size_t n) {
   for (auto& col : c) col.assign(n, 0.0);
 }
 
+/// A particle starting deeper in a plane than its radius (its centre on the
+/// solid side): refused, naming the particle and the plane.
+template <int D>
+BuildResult check_plane_overlaps(const DemDesc<D>& desc) {
+  for (std::size_t p = 0; p < desc.planes.size(); ++p) {
+    const auto& pl = desc.planes[p];
+    double len = 0;
+    for (double c : pl.normal) len += c * c;
+    len = std::sqrt(len);
+    for (std::size_t i = 0; i < desc.particles.size(); ++i) {
+      const auto& q = desc.particles[i];
+      double height = 0;  // of the centre above the plane
+      for (int d = 0; d < D; ++d) height += (q.position[d] - pl.point[d]) * (pl.normal[d] / len);
+      const double overlap = q.radius - height;
+      if (!(overlap > q.radius)) continue;
+      char speed[32];
+      dem_detail::format_speed(overlap * std::sqrt(q.stiffness / q.mass), speed, sizeof(speed));
+      return BuildResult::failure(Code::invalid_argument,
+                                  "particles[%zu].position: overlaps planes[%zu] by %g m at the start, more than its "
+                                  "radius %g m (its centre is on the plane's solid side): its contact would throw it "
+                                  "out at up to %s",
+                                  i, p, overlap, q.radius, speed);
+    }
+  }
+  return BuildResult::success();
+}
+
+/// Two particles starting overlapped by more than the smaller radius: refused,
+/// naming the first such pair of the (built, sorted) pair list.
+template <int D>
+BuildResult check_pair_overlaps(const DemModel<D>& m, const DemState<D>& s) {
+  for (std::int32_t c = 0; c < s.pair_count; ++c) {
+    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
+    double dist2 = 0;
+    for (int d = 0; d < D; ++d) {
+      const double dx = s.x[d][j] - s.x[d][i];
+      dist2 += dx * dx;
+    }
+    const double overlap = m.radius[i] + m.radius[j] - std::sqrt(dist2);
+    const double smaller = std::min(m.radius[i], m.radius[j]);
+    if (!(overlap > smaller)) continue;
+    char speed[32];
+    dem_detail::format_speed(overlap * std::sqrt(s.pair_stiffness[c] * (m.inv_mass[i] + m.inv_mass[j])), speed,
+                             sizeof(speed));
+    return BuildResult::failure(Code::invalid_argument,
+                                "particles[%d].position: overlaps particles[%d] by %g m at the start, more than the "
+                                "smaller radius %g m: their contact would throw them apart at up to %s",
+                                j, i, overlap, smaller, speed);
+  }
+  return BuildResult::success();
+}
+
 /// build_dem() after its checks: sizes and fills the model, state and
 /// workspace. May throw std::bad_alloc (build_dem turns it into a refusal).
 template <int D>
@@ -215,6 +267,11 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
                                   "capacities: the initial configuration does not fit (%s); raise the named capacity",
                                   describe(status, text, sizeof(text)));
     }
+    // The list holds every pair within reach: the deep overlaps among them.
+    if (BuildResult r = check_pair_overlaps(m, s); !r.ok()) {
+      m.accelerations = nullptr;
+      return r;
+    }
     for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
     s.hist_plane_force[0] = w.plane_force;
     if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
@@ -265,6 +322,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     for (double c : pl.normal) len2 += c * c;
     if (!(len2 > 1e-300)) return BuildResult::failure(Code::invalid_argument, "planes[%zu].normal: must not be zero", p);
   }
+  if (BuildResult r = check_plane_overlaps(desc); !r.ok()) return r;
   if (desc.split_from < 0)
     return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
 
