@@ -133,6 +133,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene key 'dem.particles.0.position': particle 'p1' overlaps plane 'plane0' by 0.6 m at the start, "
                  "more than its radius 0.1 m (its centre is on the plane's solid side): its contact would throw it out "
                  "at up to 60 m/s"},
+        // a key given twice in an override's object (nlohmann keeps the last silently)
+        BadInput{"--set 'dem.contact={\"law\": \"linear\", \"law\": \"linear_nontensile\"}'",
+                 "scene key 'dem.contact.law': given twice"},
+        BadInput{"--set 'dem.particles=[{\"mass\": 1, \"radius\": 0.1, \"stiffness\": 1e4, \"position\": [3], "
+                 "\"position\": [4]}]'",
+                 "scene key 'dem.particles.0.position': given twice"},
         BadInput{"--set dem.capacities.max_events_per_step=3",
                  "scene key 'dem.capacities.max_events_per_step': not used: only dem.integrator abm4_events locates "
                  "contact events (this scene's is abm4)"}));
@@ -260,6 +266,37 @@ TEST(Cli, OutputErrorsAreReportedAndLeaveNoPartialFile) {
     EXPECT_NE(r.err.find("cannot write '/dev/full': No space left on device"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::is_character_file("/dev/full"));  // written to, not replaced by a file
     EXPECT_FALSE(fs::exists("/dev/full.partial"));
+  }
+}
+
+// A key given twice in one object of the scene file, at any depth, is an
+// error naming it (a JSON parser keeps the last one silently); the same key in
+// different objects is not.
+TEST(Cli, AKeyGivenTwiceIsAnErrorNamingIt) {
+  const std::string original = slurp(scene("v1_k1e4.json"));
+  const auto with = [&](const std::string& find, const std::string& insert) {
+    const std::size_t at = original.find(find);
+    EXPECT_NE(at, std::string::npos) << find;
+    const fs::path file = scratch() / "twice.json";
+    std::ofstream(file) << original.substr(0, at + find.size()) << insert << original.substr(at + find.size());
+    return file;
+  };
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  struct Case {
+    const char* after;
+    const char* insert;
+    const char* message;
+  };
+  for (const Case& c : {Case{"\"name\": \"v1_k1e4\",", " \"name\": \"again\",", "scene key 'name': given twice"},
+                        Case{"\"mass\": 1.0,", " \"mass\": 2.0,", "scene key 'dem.particles.0.mass': given twice"},
+                        Case{"\"time\": {", " \"end\": 1, ", "scene key 'time.end': given twice"},
+                        Case{"\"name\": \"v\",", " \"quantity\": \"position\",",
+                             "scene key 'output.probes.1.quantity': given twice"}}) {
+    const Result r = run("run " + with(c.after, c.insert).string() + " --csv " + csv.string());
+    EXPECT_EQ(r.exit_code, 2) << c.message;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(csv));
   }
 }
 

@@ -142,7 +142,7 @@ void apply_override(Json& document, const std::string& assignment) {
   const std::string text = assignment.substr(eq + 1);
   Json value;
   try {
-    value = Json::parse(text);
+    value = parse_json(text, path, /*ignore_comments=*/false);  // a key given twice in an object value is refused
   } catch (const Json::parse_error&) {
     value = text;  // a bare word such as rk4
   } catch (const Json::exception&) {
@@ -436,9 +436,11 @@ StepStatus acknowledged_flags(const Scene& scene) {
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw SceneError("cannot open scene file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
   Json document;
   try {
-    document = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
+    document = parse_json(text.str(), "", /*ignore_comments=*/true);
   } catch (const Json::exception& e) {
     throw SceneError("scene file '" + path + "' is not valid JSON: " + e.what());
   }

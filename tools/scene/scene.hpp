@@ -83,7 +83,8 @@ StepStatus acknowledged_flags(const Scene& scene);
 
 /// Applies one `--set key.path=value` override to a parsed JSON document.
 /// Array elements are addressed by index ("dem.particles.0.mass"); the value is
-/// read as JSON when it parses as JSON, otherwise as a string.
+/// read as JSON when it parses as JSON (a key given twice in one of its
+/// objects is refused, naming it), otherwise as a string.
 void apply_override(Json& document, const std::string& assignment);
 
 /// Reads, overrides and validates a scene file.
