@@ -1,7 +1,7 @@
 // libFuzzer target: arbitrary bytes as a scene file.
 //
 // The bytes are parsed as JSON (comments allowed, as load_scene does); a parse
-// error is an ordinary refusal. A document is then validated by parse_scene,
+// error, or a key given twice in an object, is an ordinary refusal. A document is then validated by parse_scene,
 // whose refusals are SceneError. A scene that loads and is small enough to step
 // quickly (see the bounds below) is built into its world and stepped a few
 // times; a build refusal is a SceneError too, and a step may report any status.
@@ -9,6 +9,7 @@
 // finding. Seeds: the scenes under scenes/ (tools/fuzz.sh copies them).
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <variant>
 
 #include "scene/scene.hpp"
@@ -53,9 +54,11 @@ bool small_enough(const Scene& s) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   Json document;
   try {
-    document = Json::parse(data, data + size, nullptr, true, /*ignore_comments=*/true);
+    document = parse_json(std::string(reinterpret_cast<const char*>(data), size), "", /*ignore_comments=*/true);
   } catch (const Json::exception&) {
     return 0;  // not JSON: refused before the loader sees it
+  } catch (const SceneError&) {
+    return 0;  // a key given twice, named
   }
   Scene scene;
   try {

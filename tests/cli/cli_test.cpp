@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "support/command.hpp"
+#include "xfdem/platform/memory.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,14 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define XFDEM_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define XFDEM_UNDER_ASAN 1
+#endif
+#endif
 
 namespace {
 
@@ -113,7 +122,26 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"--set energy_check.every=4", "scene key 'energy_check.every': unknown key"},
         // end/dt = 6e29 steps: rejected, not cast past int64 (found by the loader fuzzer)
         BadInput{"--set time.dt=1e-29 --set output.every=1e-29", "scene key 'time.end': needs more than 4e9 steps"},
-        BadInput{"--frobnicate", "unknown option '--frobnicate'"}));
+        BadInput{"--frobnicate", "unknown option '--frobnicate'"},
+        // capacities: the index type bounds them (memory is the build's to say), and one the model would not use is refused
+        BadInput{"--set dem.capacities.max_pairs=2000000001",
+                 "scene key 'dem.capacities.max_pairs': must be an integer in [0, 2000000000] (got 2000000001)"},
+        BadInput{"--set dem.capacities.max_grid_cells=1000",
+                 "scene key 'dem.capacities.max_grid_cells': not used: 1 particle has no pairs to list"},
+        // a start deeper in the ground than the radius (moderate overlaps are legal)
+        BadInput{"--set dem.particles.0.position=[-0.5]",
+                 "scene key 'dem.particles.0.position': particle 'p1' overlaps plane 'plane0' by 0.6 m at the start, "
+                 "more than its radius 0.1 m (its centre is on the plane's solid side): its contact would throw it out "
+                 "at up to 60 m/s"},
+        // a key given twice in an override's object (nlohmann keeps the last silently)
+        BadInput{"--set 'dem.contact={\"law\": \"linear\", \"law\": \"linear_nontensile\"}'",
+                 "scene key 'dem.contact.law': given twice"},
+        BadInput{"--set 'dem.particles=[{\"mass\": 1, \"radius\": 0.1, \"stiffness\": 1e4, \"position\": [3], "
+                 "\"position\": [4]}]'",
+                 "scene key 'dem.particles.0.position': given twice"},
+        BadInput{"--set dem.capacities.max_events_per_step=3",
+                 "scene key 'dem.capacities.max_events_per_step': not used: only dem.integrator abm4_events locates "
+                 "contact events (this scene's is abm4)"}));
 
 // A coupled scene's particles step at time.dt / time.dem_substeps: past their
 // stable step, the message names time.dt, the substep and what to change.
@@ -126,6 +154,100 @@ TEST(Cli, CoupledSubstepPastTheStableStepNamesTimeDt) {
             std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("reduce time.dt or raise time.dem_substeps"), std::string::npos) << r.err;
+}
+
+// A particle starting inside the bar, or deeper in another particle than the
+// smaller radius, is refused naming it by key and by name; resting on the tip
+// at half its radius is legal.
+TEST(Cli, AParticleStartingInsideTheBarOrAnotherIsRefusedNamingIt) {
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  Result r = run("run " + scene("case1_xfem.json") + " --set dem.particles.0.position=[28.5] --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.particles.0.position': particle 'p1' overlaps the bar's tip by 2 m at the "
+                       "start, more than its radius 0.5 m (its centre is inside the bar): its contact would throw it "
+                       "out at up to 707 m/s"),
+            std::string::npos)
+      << r.err;
+  r = run("run " + scene("case2_xfem.json") + " --set dem.particles.1.position=[33.6] --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.particles.1.position': particle 'p2' overlaps particle 'p1' by 0.7 m at the "
+                       "start, more than the smaller radius 0.3 m: their contact would throw them apart at up to 271 m/s"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+  r = run("run " + scene("case1_xfem.json") + " --set dem.particles.0.position=[30.25] --set time.end=0.1 --csv " +
+          (scratch() / "resting.csv").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+/// Bytes as the kernel's messages print them ("25.3 GB").
+std::string bytes_text(double bytes) {
+  const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
+  int unit = 0;
+  while (unit < 5 && bytes >= 999.5) bytes /= 1000.0, ++unit;
+  char text[32];
+  std::snprintf(text, sizeof(text), unit == 0 ? "%.0f %s" : "%.3g %s", bytes, units[unit]);
+  return text;
+}
+
+// A capacity whose arrays would take more than the machine's memory is refused
+// before anything is allocated, naming the key and what it would take. In Case
+// II it is refused as unused unless the particles are put on a grid.
+TEST(Cli, CapacityPastTheMachinesMemoryIsRefusedNamingTheKey) {
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  Result r = run("run " + scene("case2_xfem.json") + " --set dem.capacities.max_pairs=400000000 --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': not used: 2 particles, at most dem.all_pairs_up_to = 8, "
+                       "are paired all with all in a fixed list; it bounds the grid that more particles use"),
+            std::string::npos)
+      << r.err;
+  // 2e9 pairs in the particle state and the coupled window's two copies of it: 144 GB.
+  const std::uint64_t memory = xfdem::platform::physical_memory_bytes();
+  if (memory == 0 || memory >= 144'000'000'000ull) GTEST_SKIP() << "this machine has " << bytes_text(double(memory));
+  r = run("run " + scene("case2_xfem.json") +
+          " --set dem.all_pairs_up_to=0 --set dem.capacities.max_pairs=2000000000 --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 2000000000 pairs take 144 GB of the 144 GB the "
+                       "particles' arrays need (24 bytes a pair, in the state and the coupled window's 2 copies of "
+                       "it), more than the memory budget of " +
+                       bytes_text(static_cast<double>(memory)) + " (this machine's physical memory)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+}
+
+// Where the system refuses memory the budget allowed (here an address-space
+// limit), the run stops with a message and exit code 2, never a crash: in the
+// kernel's build, naming the key, and while the CSV (held in memory until the
+// run ends) grows, naming the step.
+TEST(Cli, OutOfMemoryIsReportedNotACrash) {
+#ifdef XFDEM_UNDER_ASAN
+  GTEST_SKIP() << "the sanitizer's shadow memory needs more address space than the limit leaves";
+#endif
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  const auto limited = [](const char* kilobytes, const std::string& args) {
+    return xfdem::testing::run_command(std::string("ulimit -v ") + kilobytes + " && " + XFDEM_CLI, args);
+  };
+  Result r = limited("400000", "run " + scene("case2_xfem.json") +
+                                   " --set dem.all_pairs_up_to=0 --set dem.capacities.max_pairs=100000000 --csv " +
+                                   csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 100000000 pairs take 7.2 GB of the 7.2 GB the "
+                       "particles' arrays need (24 bytes a pair, in the state and the coupled window's 2 copies of "
+                       "it): the allocator could not provide them"),
+            std::string::npos)
+      << r.err;
+  r = limited("200000", "run " + scene("v1_k1e4.json") +
+                            " --set time.dt=1e-3 --set time.end=4000 --set output.every=1e-3 --csv " + csv.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("xfdem: out of memory at step ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("): the CSV, held in memory until the run ends, could not grow past "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" rows; raise output.every or shorten time.end"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_FALSE(fs::exists(csv.string() + ".partial"));
 }
 
 // Output errors: an empty --csv, a directory, and a write that fails (a full
@@ -144,6 +266,37 @@ TEST(Cli, OutputErrorsAreReportedAndLeaveNoPartialFile) {
     EXPECT_NE(r.err.find("cannot write '/dev/full': No space left on device"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::is_character_file("/dev/full"));  // written to, not replaced by a file
     EXPECT_FALSE(fs::exists("/dev/full.partial"));
+  }
+}
+
+// A key given twice in one object of the scene file, at any depth, is an
+// error naming it (a JSON parser keeps the last one silently); the same key in
+// different objects is not.
+TEST(Cli, AKeyGivenTwiceIsAnErrorNamingIt) {
+  const std::string original = slurp(scene("v1_k1e4.json"));
+  const auto with = [&](const std::string& find, const std::string& insert) {
+    const std::size_t at = original.find(find);
+    EXPECT_NE(at, std::string::npos) << find;
+    const fs::path file = scratch() / "twice.json";
+    std::ofstream(file) << original.substr(0, at + find.size()) << insert << original.substr(at + find.size());
+    return file;
+  };
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  struct Case {
+    const char* after;
+    const char* insert;
+    const char* message;
+  };
+  for (const Case& c : {Case{"\"name\": \"v1_k1e4\",", " \"name\": \"again\",", "scene key 'name': given twice"},
+                        Case{"\"mass\": 1.0,", " \"mass\": 2.0,", "scene key 'dem.particles.0.mass': given twice"},
+                        Case{"\"time\": {", " \"end\": 1, ", "scene key 'time.end': given twice"},
+                        Case{"\"name\": \"v\",", " \"quantity\": \"position\",",
+                             "scene key 'output.probes.1.quantity': given twice"}}) {
+    const Result r = run("run " + with(c.after, c.insert).string() + " --csv " + csv.string());
+    EXPECT_EQ(r.exit_code, 2) << c.message;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(csv));
   }
 }
 

@@ -11,7 +11,8 @@ namespace xfdem::testing {
 namespace {
 
 /// A loose random cloud of n spheres in a box, falling under gravity onto the
-/// floor: contacts form, break and the list is rebuilt many times.
+/// floor: contacts form, break and the list is rebuilt many times. No pair
+/// starts deeper than the smaller radius (the build refuses that).
 template <int D>
 DemDesc<D> cloud(int n, std::uint32_t seed) {
   DemDesc<D> d;
@@ -27,10 +28,10 @@ DemDesc<D> cloud(int n, std::uint32_t seed) {
     p.mass = 0.01 * (1 + u(rng));
     p.radius = 0.004 * (1 + 0.5 * u(rng));
     p.stiffness = 1e4 * (1 + u(rng));
-    for (int k = 0; k < D; ++k) {
-      p.position[k] = side * u(rng);
-      p.velocity[k] = u(rng) - 0.5;
-    }
+    for (int k = 0; k < D; ++k) p.velocity[k] = u(rng) - 0.5;
+    do {
+      for (int k = 0; k < D; ++k) p.position[k] = side * u(rng);
+    } while (starts_too_deep(d.particles, p));
     d.particles.push_back(p);
   }
   for (int k = 0; k < D; ++k) {

@@ -21,9 +21,14 @@ DemDesc<3> stirred_box(int n) {
   d.dt = 1e-5;
   d.split_from = 1000;
   const double side = 0.12;
-  for (int i = 0; i < n; ++i)
-    d.particles.push_back({0.001 * (1 + u(rng)), 0.002 * (1 + 0.3 * u(rng)), 2e3,
-                           {side * u(rng), side * u(rng), side * u(rng)}, {4 * (u(rng) - 0.5), 4 * (u(rng) - 0.5), 4 * (u(rng) - 0.5)}});
+  for (int i = 0; i < n; ++i) {
+    ParticleDesc<3> p{0.001 * (1 + u(rng)), 0.002 * (1 + 0.3 * u(rng)), 2e3, {},
+                      {4 * (u(rng) - 0.5), 4 * (u(rng) - 0.5), 4 * (u(rng) - 0.5)}};
+    do {  // no pair starts deeper than the smaller radius (the build refuses that)
+      p.position = {side * u(rng), side * u(rng), side * u(rng)};
+    } while (starts_too_deep(d.particles, p));
+    d.particles.push_back(p);
+  }
   for (int k = 0; k < 3; ++k) {
     PlaneDesc<3> lo, hi;
     lo.normal[k] = 1;

@@ -1,5 +1,6 @@
 // Small scenes the DEM tests share, and measurement helpers.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -20,6 +21,20 @@ inline DemDesc<1> drop_scene(const DropParameters& p, DemIntegrator integrator, 
   d.particles.push_back({p.mass, p.radius, p.stiffness, {p.y0}, {0.0}});
   d.planes.push_back({{0.0}, {1.0}});
   return d;
+}
+
+/// Whether `p` overlaps one of `placed` by more than the smaller radius: a
+/// start build_dem refuses. Random clouds redraw such a position (with a 1 %
+/// margin, so that round-off cannot tip a pair over).
+template <int D>
+bool starts_too_deep(const std::vector<ParticleDesc<D>>& placed, const ParticleDesc<D>& p) {
+  for (const auto& q : placed) {
+    double dist2 = 0;
+    for (int k = 0; k < D; ++k) dist2 += (p.position[k] - q.position[k]) * (p.position[k] - q.position[k]);
+    const double closest = 1.01 * std::max(p.radius, q.radius);  // overlap r_p + r_q − d ≤ the smaller radius
+    if (dist2 < closest * closest) return true;
+  }
+  return false;
 }
 
 /// A sample of a 1D trajectory.

@@ -6,17 +6,20 @@
 // Validates the whole scene (and every override) before stepping; writes the
 // CSV to a temporary file renamed into place only when the run succeeded, so a
 // failed run leaves no partial output. Exit codes: 0 success, 2 bad input
-// (usage, scene, override), 3 the stepper reported a status.
+// (usage, scene, override) or out of memory (naming what was being done), 3
+// the stepper reported a status.
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli/stage.hpp"
 #include "scene/runner.hpp"
 #include "scene/scene.hpp"
 #include "xfdem/version.hpp"
@@ -116,18 +119,28 @@ int run(int argc, char** argv) {
     }
   }
   if (scene_path.empty()) throw xfdem::scene::SceneError("no scene file given");
+  xfdem::cli::stage = "loading the scene file";
   const xfdem::scene::Scene scene = xfdem::scene::load_scene(scene_path, overrides);
 
   std::ostringstream buffer;
   xfdem::scene::RunSummary summary;
+  xfdem::cli::stage = "building and running the scene";
   try {
     summary = xfdem::scene::run_scene(scene, buffer, threads);
+  } catch (const xfdem::scene::OutputError& e) {
+    // The CSV is held in memory until the run ends (no partial output): it could not grow.
+    std::fprintf(stderr,
+                 "xfdem: out of memory at step %lld (t = %.17g s): the CSV, held in memory until the run ends, could "
+                 "not grow past %lld rows; raise output.every or shorten time.end\n",
+                 static_cast<long long>(e.step), e.time, static_cast<long long>(e.rows));
+    return 2;
   } catch (const xfdem::scene::SceneError& e) {
     const std::string what = e.what();
     std::cerr << "xfdem: " << what << "\n";
     return what.rfind("step ", 0) == 0 ? 3 : 2;
   }
-  if (!write_output(csv_path, buffer.str())) return 2;
+  xfdem::cli::stage = "writing the CSV";
+  if (!write_output(csv_path, std::move(buffer).str())) return 2;
   std::fprintf(stderr, "xfdem: %s: %lld steps, wall %.3f s, mean %.3f us/step, worst %.3f us/step\n",
                scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
                summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);
@@ -160,7 +173,12 @@ int main(int argc, char** argv) {
   }
   if (command != "run" && command != "replay") return usage_error("unknown command '" + command + "'");
   try {
+    xfdem::cli::stage = "reading the command line";
     return command == "replay" ? replay_command(argc, argv) : run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    // Not through a stream: there may be no memory to format one.
+    std::fprintf(stderr, "xfdem: out of memory while %s\n", xfdem::cli::stage);
+    return 2;
   } catch (const xfdem::scene::SceneError& e) {
     std::cerr << "xfdem: " << e.what() << "\n";
     return 2;

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/stage.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_world.hpp"
 
@@ -269,8 +270,11 @@ int check(const Options& o, double dt, xfdem::scene::SceneWorld& world, std::int
 /// `xfdem replay …` (dispatched from main.cpp). Throws SceneError on bad input.
 int replay_command(int argc, char** argv) {
   const Options o = parse(argc, argv);
+  xfdem::cli::stage = "loading the scene file";
   const xfdem::scene::Scene scene = xfdem::scene::load_scene(o.scene_path, o.overrides);
+  xfdem::cli::stage = "building the scene's model";
   xfdem::scene::SceneWorld world(scene);
+  xfdem::cli::stage = o.mode == "record" ? "recording the run's hashes" : "checking the run against its hashes";
   if (o.mode == "record") return record(o, scene, world, o.steps >= 0 ? std::min(o.steps, scene.steps) : scene.steps);
   return check(o, scene.dt, world, o.steps);
 }

@@ -169,9 +169,9 @@ const char* broad_phase_name(xfdem::BroadPhase b) {
 template <int D>
 class DemSystem {
  public:
-  DemSystem(const xfdem::DemDesc<D>& desc, xfdem::ParallelFor parallel) {
+  DemSystem(const xfdem::scene::Scene& scene, const xfdem::DemDesc<D>& desc, xfdem::ParallelFor parallel) {
     const xfdem::BuildResult built = world_.build(desc);
-    if (!built.ok()) throw SceneError(std::string("scene key 'dem.") + built.message);
+    if (!built.ok()) throw xfdem::scene::build_refusal(scene, xfdem::scene::Built::dem, built);
     world_.workspace.parallel = parallel;
   }
   StepStatus step() { return world_.step(); }
@@ -191,9 +191,9 @@ class DemSystem {
 
 class BarSystem {
  public:
-  explicit BarSystem(const xfdem::BarDesc& desc) {
+  BarSystem(const xfdem::scene::Scene& scene, const xfdem::BarDesc& desc) {
     const xfdem::BuildResult built = xfdem::build_bar(desc, model_, state_, workspace_);
-    if (!built.ok()) throw SceneError(std::string("scene key 'continuum.") + built.message);
+    if (!built.ok()) throw xfdem::scene::build_refusal(scene, xfdem::scene::Built::continuum, built);
   }
   StepStatus step() { return xfdem::bar_step(model_, state_, workspace_); }
   std::string describe() const {
@@ -216,11 +216,7 @@ class CoupledSystem {
  public:
   CoupledSystem(const xfdem::scene::Scene& scene, xfdem::ParallelFor parallel) {
     const xfdem::BuildResult built = world_.build(xfdem::scene::coupled_desc(scene));
-    if (!built.ok()) {
-      const std::string message = built.message;
-      if (message.rfind("bar.", 0) == 0) throw SceneError("scene key 'continuum." + message.substr(4));
-      throw SceneError("scene key '" + message);
-    }
+    if (!built.ok()) throw xfdem::scene::build_refusal(scene, xfdem::scene::Built::coupled, built);
     world_.workspace.dem.parallel = parallel;
   }
   StepStatus step() { return world_.step(); }
@@ -452,19 +448,19 @@ int run(const Options& o) {
     return run_and_report(o, scene, system, pinned.c_str());
   }
   if (const auto* d1 = std::get_if<xfdem::DemDesc<1>>(&scene.dem)) {
-    DemSystem<1> system(*d1, parallel);
+    DemSystem<1> system(scene, *d1, parallel);
     return run_and_report(o, scene, system, pinned.c_str());
   }
   if (const auto* d2 = std::get_if<xfdem::DemDesc<2>>(&scene.dem)) {
-    DemSystem<2> system(*d2, parallel);
+    DemSystem<2> system(scene, *d2, parallel);
     return run_and_report(o, scene, system, pinned.c_str());
   }
   if (const auto* d3 = std::get_if<xfdem::DemDesc<3>>(&scene.dem)) {
-    DemSystem<3> system(*d3, parallel);
+    DemSystem<3> system(scene, *d3, parallel);
     return run_and_report(o, scene, system, pinned.c_str());
   }
   if (scene.bar) {
-    BarSystem system(*scene.bar);
+    BarSystem system(scene, *scene.bar);
     return run_and_report(o, scene, system, pinned.c_str());
   }
   throw SceneError("scene: nothing to run");

@@ -1,7 +1,10 @@
 #include "scene/json_reader.hpp"
 
 #include <cmath>
+#include <set>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace xfdem::scene {
 
@@ -134,6 +137,52 @@ std::vector<std::pair<const Json*, std::string>> ObjectReader::array(const char*
   std::vector<std::pair<const Json*, std::string>> out;
   for (std::size_t i = 0; i < v.size(); ++i) out.emplace_back(&v[i], key_path(key) + "." + std::to_string(i));
   return out;
+}
+
+Json parse_json(const std::string& text, const std::string& path, bool ignore_comments) {
+  // The parser reports every key as it reads it: each open object keeps the
+  // keys seen so far, each open array counts its elements (for the path).
+  struct Open {
+    bool array = false;
+    std::string path;
+    std::set<std::string> keys;
+    std::string key;        ///< the object's key whose value is being read
+    std::size_t element = 0;  ///< the array's next element
+  };
+  std::vector<Open> open;
+  const auto next_path = [&]() -> std::string {
+    if (open.empty()) return path;
+    Open& parent = open.back();
+    return join_path(parent.path, parent.array ? std::to_string(parent.element++) : parent.key);
+  };
+  const Json::parser_callback_t check = [&](int, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+      case Json::parse_event_t::array_start: {
+        Open o;
+        o.path = next_path();
+        o.array = event == Json::parse_event_t::array_start;
+        open.push_back(std::move(o));
+        break;
+      }
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        open.pop_back();
+        break;
+      case Json::parse_event_t::key: {
+        Open& object = open.back();
+        std::string key = parsed.get<std::string>();
+        if (!object.keys.insert(key).second) throw SceneError("scene key '" + join_path(object.path, key) + "': given twice");
+        object.key = std::move(key);
+        break;
+      }
+      case Json::parse_event_t::value:
+        if (!open.empty() && open.back().array) ++open.back().element;
+        break;
+    }
+    return true;
+  };
+  return Json::parse(text, check, /*allow_exceptions=*/true, ignore_comments);
 }
 
 void ObjectReader::finish() const {

@@ -81,4 +81,11 @@ class ObjectReader {
 /// Checks that a JSON value is a finite number inside range; `where` names it.
 double read_real(const Json& value, const std::string& where, Range range = kAny);
 
+/// Parses JSON text as nlohmann::json does, but a key given twice in one
+/// object, at any depth, is a SceneError naming it ("scene key
+/// 'dem.particles.0.mass': given twice") instead of the last one silently
+/// winning. `path` is the dotted key of the text's value (an override's key;
+/// empty for a whole scene). Syntax errors are Json::parse_error as usual.
+Json parse_json(const std::string& text, const std::string& path, bool ignore_comments);
+
 }  // namespace xfdem::scene

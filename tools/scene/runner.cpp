@@ -9,7 +9,10 @@
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 
+#include <memory>
+#include <new>
 #include <optional>
+#include <utility>
 
 namespace xfdem::scene {
 namespace {
@@ -31,34 +34,6 @@ std::string dem_stages(const DemModel<D>& m, const DemState<D>& s, const DemProf
   return text;
 }
 
-/// A build failure as the scene key the user wrote and the reason. The kernel
-/// names its own description's fields ("dt: …", "particles[1].mass: …");
-/// `block` is where that description sits in the scene ("dem", "continuum"),
-/// and the few fields the scene keeps elsewhere are renamed. A coupled
-/// model's particles step at dt / dem_substeps: their "dt" is that substep.
-SceneError build_error(const std::string& block, const std::string& message, bool substep = false) {
-  const std::size_t colon = message.find(": ");
-  std::string field = colon == std::string::npos ? std::string() : message.substr(0, colon);
-  std::string reason = colon == std::string::npos ? message : message.substr(colon + 2);
-  std::string key;
-  if (field == "dt" || field.rfind("time.", 0) == 0) {
-    key = field == "dt" ? "time.dt" : field;
-    if (field == "dt" && substep) reason = "the particle substep time.dt / time.dem_substeps = " + reason +
-                                           "; reduce time.dt or raise time.dem_substeps";
-  } else if (block == "dem" && field == "damping_ratio") {
-    key = "dem.contact.damping_ratio";
-  } else if (block == "continuum" && (field == "beta" || field == "gamma")) {
-    key = "continuum.newmark." + field;
-  } else if (field == "dem_substeps") {
-    key = "time.dem_substeps";
-  } else if (field.empty()) {
-    key = block;
-  } else {
-    key = block + "." + field;
-  }
-  return SceneError("scene key '" + key + "': " + reason);
-}
-
 void write_value(std::ostream& out, double value) {
   // The text of printf's "%.17g" (the standard defines to_chars by it), which
   // reads back bit-exact, without printf's locale and multi-precision work:
@@ -72,9 +47,9 @@ void write_value(std::ostream& out, double value) {
 template <int D>
 class DemSystem {
  public:
-  DemSystem(const DemDesc<D>& desc, ParallelFor parallel) {
+  DemSystem(const Scene& scene, const DemDesc<D>& desc, ParallelFor parallel) {
     const BuildResult built = build_dem(desc, model_, state_, workspace_);
-    if (!built.ok()) throw build_error("dem", built.message);
+    if (!built.ok()) throw build_refusal(scene, Built::dem, built);
     workspace_.parallel = parallel;
   }
   void time_stages(bool on) { workspace_.clock_ns = on ? &platform::monotonic_ns : nullptr; }
@@ -106,9 +81,9 @@ class DemSystem {
 /// A bar alone (V2).
 class BarSystem {
  public:
-  explicit BarSystem(const BarDesc& desc) {
+  BarSystem(const Scene& scene, const BarDesc& desc) {
     const BuildResult built = build_bar(desc, model_, state_, workspace_);
-    if (!built.ok()) throw build_error("continuum", built.message);
+    if (!built.ok()) throw build_refusal(scene, Built::continuum, built);
   }
   StepStatus step() { return bar_step(model_, state_, workspace_); }
   void time_stages(bool) {}
@@ -140,13 +115,7 @@ class CoupledSystem {
  public:
   explicit CoupledSystem(const Scene& scene) {
     const BuildResult built = world_.build(coupled_desc(scene));
-    if (!built.ok()) {
-      // "dem.…" and "bar.…" name the half; "time.dt: …" and "dem_substeps: …" the coupling's own keys.
-      const std::string message = built.message;
-      if (message.rfind("dem.", 0) == 0) throw build_error("dem", message.substr(4), true);
-      if (message.rfind("bar.", 0) == 0) throw build_error("continuum", message.substr(4));
-      throw build_error("time", message);
-    }
+    if (!built.ok()) throw build_refusal(scene, Built::coupled, built);
   }
   StepStatus step() { return world_.step(); }
   void time_stages(bool on) { world_.workspace.clock_ns = on ? &platform::monotonic_ns : nullptr; }
@@ -201,7 +170,13 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
     }
     csv << '\n';
   };
-  row(0);
+  std::int64_t rows = 0;
+  const auto checked_row = [&](std::int64_t step) {
+    row(step);
+    if (!csv) throw OutputError(step, static_cast<double>(step) * scene.dt, rows);
+    ++rows;
+  };
+  checked_row(0);
   RunSummary summary;
   const std::int64_t start = platform::monotonic_ns();
   std::int64_t worst = 0;
@@ -224,7 +199,7 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
                     static_cast<double>(step) * scene.dt, describe(status, text, sizeof(text)));
       throw SceneError(message);
     }
-    if (step % scene.output_stride == 0) row(step);
+    if (step % scene.output_stride == 0) checked_row(step);
   }
   summary.steps = scene.steps;
   summary.wall_seconds = static_cast<double>(platform::monotonic_ns() - start) * 1e-9;
@@ -234,13 +209,35 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
   return summary;
 }
 
+/// A system built from the scene. The kernel reports its own arrays' failures
+/// by key; an allocation refused around them (copying the descriptions) is
+/// reported here.
+template <class System, class... Args>
+std::unique_ptr<System> build_system(Args&&... args) {
+  try {
+    return std::make_unique<System>(std::forward<Args>(args)...);
+  } catch (const std::bad_alloc&) {
+    throw SceneError("out of memory while building the scene's model");
+  }
+}
+
 template <int D>
 RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv, ParallelFor parallel) {
-  DemSystem<D> system(desc, parallel);
-  return run_system(scene, system, csv);
+  const auto system = build_system<DemSystem<D>>(scene, desc, parallel);
+  return run_system(scene, *system, csv);
+}
+
+std::string output_error_text(std::int64_t step, double time, std::int64_t rows) {
+  char text[200];
+  std::snprintf(text, sizeof(text), "the CSV output failed at step %" PRId64 " (t = %.17g s), after %" PRId64 " rows",
+                step, time, rows);
+  return text;
 }
 
 }  // namespace
+
+OutputError::OutputError(std::int64_t step_, double time_, std::int64_t rows_)
+    : SceneError(output_error_text(step_, time_, rows_)), step(step_), rows(rows_), time(time_) {}
 
 RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads < 1 || threads > 2) throw SceneError("--threads: must be 1 or 2");
@@ -251,15 +248,15 @@ RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   if (threads == 2) pool.emplace();
   const ParallelFor parallel = pool ? pool->parallel_for() : ParallelFor{};
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
-    CoupledSystem system(scene);
-    return run_system(scene, system, csv);
+    const auto system = build_system<CoupledSystem>(scene);
+    return run_system(scene, *system, csv);
   }
   if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel);
   if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel);
   if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv, parallel);
   if (scene.bar) {
-    BarSystem system(*scene.bar);
-    return run_system(scene, system, csv);
+    const auto system = build_system<BarSystem>(scene, *scene.bar);
+    return run_system(scene, *system, csv);
   }
   throw SceneError("scene: nothing to run");
 }

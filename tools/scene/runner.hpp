@@ -25,10 +25,22 @@ struct RunSummary {
   std::int64_t first_energy_growth_step = 0;
 };
 
+/// The CSV stream failed (a stream reports that by its state, not by an
+/// exception: an in-memory one that cannot grow, a full disk): the run stops.
+class OutputError : public SceneError {
+ public:
+  OutputError(std::int64_t step, double time, std::int64_t rows);
+  std::int64_t step, rows;  ///< the step whose row failed, rows written before it
+  double time;              ///< of that step, s
+};
+
 /// Builds the scene's models, steps to time.end, writes the header and one row
 /// per output.every to `csv`. Throws SceneError on a build failure (message
-/// names the field) and on a step status other than ok (message names the flag
-/// and the step), but for energy_growth, which it books in the summary.
+/// names the field; "out of memory while building the scene's model" when the
+/// system refuses an allocation outside the kernel's own arrays, which the
+/// kernel reports by key), on a step status other than ok (message names the
+/// flag and the step), but for energy_growth, which it books in the summary,
+/// and OutputError when `csv` fails.
 RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads = 1);
 
 }  // namespace xfdem::scene

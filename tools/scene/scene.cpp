@@ -1,12 +1,15 @@
 #include "scene/scene.hpp"
 
 #include "scene/continuum_json.hpp"
+#include "xfdem/platform/memory.hpp"
 
 #include <cmath>
 #include <limits>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
+#include <tuple>
 
 namespace xfdem::scene {
 namespace {
@@ -26,6 +29,29 @@ std::array<double, D> to_array(const std::vector<double>& v) {
   std::array<double, D> a{};
   for (int d = 0; d < D; ++d) a[d] = v[static_cast<std::size_t>(d)];
   return a;
+}
+
+/// A capacity the model would not use is refused, as any key with no effect
+/// is: the scene says something that does not happen.
+template <int D>
+void refuse_unused_capacities(const ObjectReader& caps, const DemDesc<D>& desc, const std::string& integrator) {
+  const auto n = static_cast<long long>(desc.particles.size());
+  const BroadPhase broad_phase = dem_broad_phase(n, desc.all_pairs_up_to);
+  if (broad_phase != BroadPhase::grid) {
+    std::string why;
+    if (broad_phase == BroadPhase::none) {
+      why = "not used: " + std::to_string(n) + (n == 1 ? " particle has" : " particles have") + " no pairs to list";
+    } else {
+      why = "not used: " + std::to_string(n) + " particles, at most dem.all_pairs_up_to = " +
+            std::to_string(desc.all_pairs_up_to) +
+            ", are paired all with all in a fixed list; it bounds the grid that more particles use";
+    }
+    for (const char* key : {"max_pairs", "max_neighbors_per_particle", "max_grid_cells"})
+      if (caps.has(key)) caps.fail(key, why);
+  }
+  if (desc.integrator != DemIntegrator::abm4_events && caps.has("max_events_per_step"))
+    caps.fail("max_events_per_step", "not used: only dem.integrator abm4_events locates contact events (this scene's is " +
+                                         integrator + ")");
 }
 
 template <int D>
@@ -52,15 +78,20 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
   desc.skin = dem.real_or("skin", 0.0, kNonNegative);
   desc.all_pairs_up_to = static_cast<std::int32_t>(dem.integer_or("all_pairs_up_to", 8, 0, 1 << 16));
   desc.reject_unstable_dt = !dem.boolean_or("allow_unstable_dt", false);
+  // What the arrays may take: refused at build, naming the key, before anything is allocated.
+  desc.max_memory_bytes = platform::physical_memory_bytes();
+  std::optional<ObjectReader> caps;
   if (dem.has("capacities")) {
-    ObjectReader caps = dem.object("capacities");
-    constexpr long long kMax = 400'000'000;
-    desc.capacities.max_pairs = static_cast<std::int32_t>(caps.integer_or("max_pairs", 0, 0, kMax));
+    caps.emplace(dem.object("capacities"));
+    // The type's range (the kernel counts in 32-bit integers); what fits in
+    // memory is the build's to say.
+    constexpr long long kMax = 2'000'000'000;
+    desc.capacities.max_pairs = static_cast<std::int32_t>(caps->integer_or("max_pairs", 0, 0, kMax));
     desc.capacities.max_neighbors_per_particle =
-        static_cast<std::int32_t>(caps.integer_or("max_neighbors_per_particle", 0, 0, 1 << 20));
-    desc.capacities.max_grid_cells = static_cast<std::int32_t>(caps.integer_or("max_grid_cells", 0, 0, kMax));
-    desc.capacities.max_events_per_step = static_cast<std::int32_t>(caps.integer_or("max_events_per_step", 0, 0, 1 << 20));
-    caps.finish();
+        static_cast<std::int32_t>(caps->integer_or("max_neighbors_per_particle", 0, 0, 1 << 20));
+    desc.capacities.max_grid_cells = static_cast<std::int32_t>(caps->integer_or("max_grid_cells", 0, 0, kMax));
+    desc.capacities.max_events_per_step = static_cast<std::int32_t>(caps->integer_or("max_events_per_step", 0, 0, 1 << 20));
+    caps->finish();
   }
   std::map<std::string, std::string> seen;  // name -> path
   for (const auto& [value, path] : dem.array("particles")) {
@@ -97,6 +128,7 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
       desc.planes.push_back(plane);
     }
   }
+  if (caps) refuse_unused_capacities(*caps, desc, integrator);
   return desc;
 }
 
@@ -110,7 +142,7 @@ void apply_override(Json& document, const std::string& assignment) {
   const std::string text = assignment.substr(eq + 1);
   Json value;
   try {
-    value = Json::parse(text);
+    value = parse_json(text, path, /*ignore_comments=*/false);  // a key given twice in an object value is refused
   } catch (const Json::parse_error&) {
     value = text;  // a bare word such as rk4
   } catch (const Json::exception&) {
@@ -186,7 +218,7 @@ Scene parse_scene(const Json& document) {
   if (scene.dimension == 3 && scene.has_continuum)
     throw SceneError("scene key 'dimension': 3 is for DEM-only scenes");
 
-  std::vector<std::string> plane_names;
+  std::vector<std::string>& plane_names = scene.plane_names;
   if (top.has("dem")) {
     ObjectReader dem = top.object("dem");
     switch (scene.dimension) {
@@ -292,7 +324,100 @@ CoupledDesc coupled_desc(const Scene& scene) {
   desc.dem_substeps = scene.dem_substeps;
   desc.reject_unstable_coupling = desc.dem.reject_unstable_dt;
   desc.energy_check = scene.energy_check;
+  desc.max_memory_bytes = platform::physical_memory_bytes();
   return desc;
+}
+
+namespace {
+
+/// "particles[12]" at `at` in `text`: the index, and where the token ends; -1 if none.
+long long index_token(const std::string& text, std::size_t at, const std::string& word, std::size_t& end) {
+  if (text.compare(at, word.size() + 1, word + "[") != 0) return -1;
+  std::size_t k = at + word.size() + 1;
+  long long index = 0;
+  const std::size_t digits = k;
+  while (k < text.size() && text[k] >= '0' && text[k] <= '9' && k - digits < 12) index = index * 10 + (text[k++] - '0');
+  if (k == digits || k >= text.size() || text[k] != ']') return -1;
+  end = k + 1;
+  return index;
+}
+
+/// The kernel's "particles[3]" and "planes[0]" as the scene names them:
+/// `dotted` gives the key form ("particles.3"), otherwise the names
+/// ("particle 'p4'", "plane 'floor'").
+std::string name_indices(const std::string& text, const Scene& scene, bool dotted) {
+  std::string out;
+  for (std::size_t at = 0; at < text.size();) {
+    std::size_t end = 0;
+    bool named = false;
+    for (const auto& [word, one, names] :
+         {std::tuple<std::string, std::string, const std::vector<std::string>*>{"particles", "particle", &scene.particle_names},
+          {"planes", "plane", &scene.plane_names}}) {
+      const long long index = index_token(text, at, word, end);
+      if (index < 0) continue;
+      if (dotted)
+        out += word + "." + std::to_string(index);
+      else if (static_cast<std::size_t>(index) < names->size())
+        out += one + " '" + (*names)[static_cast<std::size_t>(index)] + "'";
+      else
+        out += text.substr(at, end - at);
+      at = end;
+      named = true;
+      break;
+    }
+    if (!named) out += text[at++];
+  }
+  return out;
+}
+
+}  // namespace
+
+SceneError build_refusal(const Scene& scene, Built model, const BuildResult& built) {
+  std::string message = built.message;
+  std::string block = model == Built::dem ? "dem" : "continuum";
+  bool substep = false;
+  if (model == Built::coupled) {
+    // "dem.…" and "bar.…" name the half; "time.dt: …" and "dem_substeps: …" the coupling's own keys.
+    if (message.rfind("dem.", 0) == 0) {
+      block = "dem";
+      substep = true;
+      message = message.substr(4);
+    } else if (message.rfind("bar.", 0) == 0) {
+      message = message.substr(4);
+    } else {
+      block = "time";
+    }
+  }
+  const std::size_t colon = message.find(": ");
+  std::string field = colon == std::string::npos ? std::string() : message.substr(0, colon);
+  std::string reason = colon == std::string::npos ? message : message.substr(colon + 2);
+  std::string key;
+  if (field == "dt" || field.rfind("time.", 0) == 0) {
+    key = field == "dt" ? "time.dt" : field;
+    if (field == "dt" && substep)
+      reason = "the particle substep time.dt / time.dem_substeps = " + reason + "; reduce time.dt or raise time.dem_substeps";
+  } else if (block == "dem" && field == "damping_ratio") {
+    key = "dem.contact.damping_ratio";
+  } else if (block == "continuum" && (field == "beta" || field == "gamma")) {
+    key = "continuum.newmark." + field;
+  } else if (field == "dem_substeps") {
+    key = "time.dem_substeps";
+  } else if (field.empty()) {
+    key = block;
+  } else {
+    key = block + "." + name_indices(field, scene, true);
+  }
+  // A refusal about one particle says which, by the name the scene gives it.
+  std::size_t end = 0;
+  const long long particle = block == "dem" ? index_token(field, 0, "particles", end) : -1;
+  reason = name_indices(reason, scene, false);
+  if (particle >= 0) reason = name_indices(field.substr(0, end), scene, false) + " " + reason;
+  // The budget the scene loader gave the kernel is the machine's memory.
+  const std::string budget = " (max_memory_bytes)";
+  if (built.code == BuildResult::Code::memory && reason.size() >= budget.size() &&
+      reason.compare(reason.size() - budget.size(), budget.size(), budget) == 0)
+    reason = reason.substr(0, reason.size() - budget.size()) + " (this machine's physical memory)";
+  return SceneError("scene key '" + key + "': " + reason);
 }
 
 StepStatus acknowledged_flags(const Scene& scene) {
@@ -311,9 +436,11 @@ StepStatus acknowledged_flags(const Scene& scene) {
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw SceneError("cannot open scene file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
   Json document;
   try {
-    document = Json::parse(in, nullptr, true, /*ignore_comments=*/true);
+    document = parse_json(text.str(), "", /*ignore_comments=*/true);
   } catch (const Json::exception& e) {
     throw SceneError("scene file '" + path + "' is not valid JSON: " + e.what());
   }

@@ -51,6 +51,7 @@ struct Scene {
   /// Particles and planes, for the scene's dimension (empty variant: no `dem`).
   std::variant<std::monostate, DemDesc<1>, DemDesc<2>, DemDesc<3>> dem;
   std::vector<std::string> particle_names;
+  std::vector<std::string> plane_names;  ///< the scene's planes (a coupled model adds the bar's tip after them)
   bool has_continuum = false;
   /// The continuum (a bar: 1D only).
   std::optional<BarDesc> bar;
@@ -60,7 +61,21 @@ struct Scene {
 };
 
 /// The coupled stepper's description of a scene with particles and a bar.
+/// Its memory budget, as the particles' own (DemDesc::max_memory_bytes), is
+/// this machine's physical memory.
 CoupledDesc coupled_desc(const Scene& scene);
+
+/// Which of a scene's models a build result came from.
+enum class Built { dem, continuum, coupled };
+
+/// A kernel build failure as the scene key the user wrote and the reason. The
+/// kernel names its own description's fields ("dt: …", "particles[1].mass: …",
+/// a coupled model "dem.…", "bar.…", "time.…") and refers to particles and
+/// planes by index; here the key is the scene's ("dem.particles.1.mass",
+/// "time.dt", "continuum.newmark.beta") and they are named as the scene names
+/// them ("particle 'p2'", "plane 'floor'"). A coupled model's particles step
+/// at time.dt / time.dem_substeps: a refused particle dt is that substep.
+SceneError build_refusal(const Scene& scene, Built model, const BuildResult& built);
 
 /// Step flags a run of this scene carries on past: unstable_time_step when the
 /// scene asked for it (dem.allow_unstable_dt), nothing otherwise.
@@ -68,7 +83,8 @@ StepStatus acknowledged_flags(const Scene& scene);
 
 /// Applies one `--set key.path=value` override to a parsed JSON document.
 /// Array elements are addressed by index ("dem.particles.0.mass"); the value is
-/// read as JSON when it parses as JSON, otherwise as a string.
+/// read as JSON when it parses as JSON (a key given twice in one of its
+/// objects is refused, naming it), otherwise as a string.
 void apply_override(Json& document, const std::string& assignment);
 
 /// Reads, overrides and validates a scene file.

@@ -15,16 +15,6 @@ struct BarWorld {
   StepStatus step() { return bar_step(model, state, workspace); }
 };
 
-[[noreturn]] void refuse(const std::string& block, const BuildResult& built) {
-  const std::string message = built.message;
-  // Coupled builds name "dem.…", "bar.…" (the scene's continuum block) or "time.…".
-  if (block.empty()) {
-    if (message.rfind("bar.", 0) == 0) throw SceneError("scene key 'continuum." + message.substr(4));
-    throw SceneError("scene key '" + message);
-  }
-  throw SceneError("scene key '" + block + "." + message);
-}
-
 }  // namespace
 
 struct SceneWorld::Impl {
@@ -41,20 +31,20 @@ SceneWorld::SceneWorld(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     auto& w = world.emplace<CoupledWorld>();
     const BuildResult built = w.build(coupled_desc(scene));
-    if (!built.ok()) refuse("", built);
+    if (!built.ok()) throw build_refusal(scene, Built::coupled, built);
   } else if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) {
     auto& w = world.emplace<DemWorld<1>>();
-    if (const BuildResult built = w.build(*d1); !built.ok()) refuse("dem", built);
+    if (const BuildResult built = w.build(*d1); !built.ok()) throw build_refusal(scene, Built::dem, built);
   } else if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) {
     auto& w = world.emplace<DemWorld<2>>();
-    if (const BuildResult built = w.build(*d2); !built.ok()) refuse("dem", built);
+    if (const BuildResult built = w.build(*d2); !built.ok()) throw build_refusal(scene, Built::dem, built);
   } else if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) {
     auto& w = world.emplace<DemWorld<3>>();
-    if (const BuildResult built = w.build(*d3); !built.ok()) refuse("dem", built);
+    if (const BuildResult built = w.build(*d3); !built.ok()) throw build_refusal(scene, Built::dem, built);
   } else if (scene.bar) {
     auto& w = world.emplace<BarWorld>();
     if (const BuildResult built = build_bar(*scene.bar, w.model, w.state, w.workspace); !built.ok())
-      refuse("continuum", built);
+      throw build_refusal(scene, Built::continuum, built);
   } else {
     throw SceneError("scene: nothing to run");
   }

@@ -49,6 +49,12 @@ struct CoupledDesc {
   /// (CoupledState::energy). It replaces the bar's own: bar.energy_check is
   /// not used (the bar alone is an open system whose input the exchange sets).
   EnergyCheck energy_check;
+  /// Memory budget (bytes) of the particles' arrays, their state counted three
+  /// times (the state and CoupledWorkspace::dem_start, dem_end): checked before
+  /// anything is allocated, as DemDesc::max_memory_bytes is for particles
+  /// alone, which it replaces (dem.max_memory_bytes is not used). The bar's
+  /// arrays, sized by its elements, are not counted. 0: no budget.
+  std::uint64_t max_memory_bytes = 0;
 };
 
 struct CoupledModel {
@@ -165,7 +171,10 @@ struct CoupledWorkspace {
 };
 
 /// Builds both halves; the only allocating call. Messages name the field
-/// ("dem.particles[0].mass: ...", "bar.interface.position: ...").
+/// ("dem.particles[0].mass: ...", "bar.interface.position: ..."). Besides
+/// build_dem's and build_bar's refusals it refuses a particle that starts
+/// overlapping the bar's tip by more than its radius (its centre inside the
+/// bar), and particle arrays past max_memory_bytes (before allocating).
 BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& model, CoupledState& state,
                           CoupledWorkspace& workspace);
 

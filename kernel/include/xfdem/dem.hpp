@@ -73,16 +73,18 @@ struct PlaneDesc {
   std::array<double, D> normal{};  ///< normalised by build_dem(); must not be zero
 };
 
-/// Fixed bounds. 0 picks the default documented on each field.
+/// Fixed bounds. 0 picks the default documented on each field. The two that
+/// size arrays count against DemDesc::max_memory_bytes (DemMemory).
 struct DemCapacities {
-  /// Entries of the pair (Verlet) list. Default: 8 per particle + 64 (grid),
-  /// or n(n−1)/2 for all_pairs.
+  /// Entries of the pair (Verlet) list of the grid broad phase, 24 bytes each
+  /// in the state. Default: 8 per particle + 64. An all_pairs model's list
+  /// holds its n(n−1)/2 pairs whatever this says.
   std::int32_t max_pairs = 0;
   /// Entries of one particle's half of the pair list (partners j > i).
   /// Default 48 (enough for a dense 3D packing with a skin of half a radius).
   std::int32_t max_neighbors_per_particle = 0;
-  /// Cells of the broad-phase grid over the particles' bounding box.
-  /// Default: 8 per particle + 4096.
+  /// Cells of the broad-phase grid over the particles' bounding box, 4 bytes
+  /// each in the workspace; at most 2^31 − 2. Default: 8 per particle + 4096.
   std::int32_t max_grid_cells = 0;
   /// Events located inside one step (abm4_events). Default 16.
   std::int32_t max_events_per_step = 0;
@@ -113,9 +115,44 @@ struct DemDesc {
   /// Refuse to build when dt exceeds the integrator's stable step for the
   /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
   bool reject_unstable_dt = true;
+  /// Memory budget (bytes) of the arrays build_dem() sizes: a description
+  /// whose arrays (dem_memory) take more is refused with BuildResult::Code::memory
+  /// before anything is allocated, naming the capacity, or the particle count,
+  /// that takes the most. 0: no budget. The kernel asks the system nothing: a
+  /// host passes the machine's memory (platform::physical_memory_bytes(), as
+  /// the scene loader does) or its own share of it.
+  std::uint64_t max_memory_bytes = 0;
   /// The energy balance check of dem_step() (DemState::energy).
   EnergyCheck energy_check;
 };
+
+/// The broad phase build_dem() picks for a number of particles: none below
+/// two, all_pairs up to `all_pairs_up_to` (DemDesc), grid beyond.
+BroadPhase dem_broad_phase(std::int64_t particles, std::int32_t all_pairs_up_to) noexcept;
+
+/// Bytes of the arrays build_dem() sizes for a description, counted without
+/// allocating anything (the containers' own bookkeeping and the description
+/// itself are not counted). What DemDesc::max_memory_bytes is compared with.
+struct DemMemory {
+  std::uint64_t model = 0;      ///< particle properties, planes
+  std::uint64_t state = 0;      ///< positions, velocities, history, the pair list, planes' drive
+  std::uint64_t workspace = 0;  ///< stage scratch, the grid's cell index, planes' forces
+  std::int64_t pairs = 0;       ///< entries of the pair list (the resolved max_pairs)
+  std::int64_t grid_cells = 0;  ///< cells of the grid's index (the resolved max_grid_cells; 0 without a grid)
+  /// A pair-list entry, in the state: i and j (4 bytes each), K and η (8 each).
+  static constexpr std::uint64_t kBytesPerPair = 24;
+  /// A grid cell, in the workspace: where its particles start in the sorted list.
+  static constexpr std::uint64_t kBytesPerGridCell = 4;
+  /// model + workspace + `states` × state (a host that keeps copies of the state counts them).
+  [[nodiscard]] std::uint64_t total(int states = 1) const {
+    return model + workspace + static_cast<std::uint64_t>(states) * state;
+  }
+};
+
+/// The bytes build_dem(desc) would allocate for its arrays. max_neighbors_per_particle
+/// and max_events_per_step bound work, not storage: they size nothing.
+template <int D>
+DemMemory dem_memory(const DemDesc<D>& desc);
 
 /// Features resolved once at build: the stepper and its kernels skip what a
 /// scene does not need (no gravity term when g = 0, no dashpot when ζ = 0, …).
@@ -294,6 +331,13 @@ struct DemWorkspace {
 
 /// Validates `desc` and sizes model, state and workspace. The only call that
 /// allocates. On failure the message names the field ("particles[3].mass").
+/// Besides each field's own range it refuses, naming the particle:
+///  - a particle that starts overlapping a plane by more than its radius (its
+///    centre on the solid side), or another particle by more than the smaller
+///    radius: its contact would throw it out at a speed no scene means
+///    (invalid_argument; only the initial state is checked, a step may go deeper);
+///  - arrays past DemDesc::max_memory_bytes, before allocating, and arrays the
+///    allocator could not provide (memory): it never throws.
 template <int D>
 BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
 

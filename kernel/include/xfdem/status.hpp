@@ -77,7 +77,10 @@ const char* describe(StepStatus set, char* buffer, int buffer_size) noexcept;
 
 /// Outcome of building a model. `message` names the field at fault.
 struct BuildResult {
-  enum class Code : std::uint8_t { ok, invalid_argument, unstable_time_step, capacity };
+  /// `memory`: the arrays the description asks for take more than its memory
+  /// budget (checked before anything is allocated), or the allocator could not
+  /// provide them; nothing is left allocated.
+  enum class Code : std::uint8_t { ok, invalid_argument, unstable_time_step, capacity, memory };
   Code code = Code::ok;
   char message[320] = {};
 

@@ -6,31 +6,55 @@
 #include <cstring>
 #include <type_traits>
 #include <limits>
+#include <new>
 
 #include "dem/energy_books.hpp"
+#include "dem/memory.hpp"
 
 namespace xfdem {
 
-BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
-  m = CoupledModel{};
-  s = CoupledState{};
-  if (desc.dem_substeps < 1 || desc.dem_substeps > 1'000'000)
-    return BuildResult::failure(BuildResult::Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)",
-                                desc.dem_substeps);
-  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
+namespace {
+
+/// The particles' state is held three times: the state itself and the
+/// window's start and end (CoupledWorkspace::dem_start, dem_end).
+constexpr int kDemStates = 3;
+constexpr const char* kDemStatesNote = ", in the state and the coupled window's 2 copies of it";
+
+BuildResult prefixed(const char* prefix, const BuildResult& r) { return BuildResult::failure(r.code, "%s%s", prefix, r.message); }
+
+/// A particle starting deeper in the bar's tip than its radius (its centre
+/// inside the bar). Particles build_dem will refuse for their own values are
+/// left to it.
+BuildResult check_tip_overlaps(const DemDesc<1>& dem, double top, double top_mass) {
+  for (std::size_t i = 0; i < dem.particles.size(); ++i) {
+    const ParticleDesc<1>& p = dem.particles[i];
+    const bool valid = std::isfinite(p.position[0]) && std::isfinite(p.radius) && p.radius > 0 &&
+                       std::isfinite(p.mass) && p.mass > 0 && std::isfinite(p.stiffness) && p.stiffness > 0;
+    const double overlap = p.radius - (p.position[0] - top);
+    if (!valid || !(overlap > p.radius)) continue;
+    char speed[32];
+    dem_detail::format_speed(overlap * std::sqrt(p.stiffness * (1.0 / top_mass + 1.0 / p.mass)), speed, sizeof(speed));
+    return BuildResult::failure(BuildResult::Code::invalid_argument,
+                                "dem.particles[%zu].position: overlaps the bar's tip by %g m at the start, more than its "
+                                "radius %g m (its centre is inside the bar): its contact would throw it out at up to %s",
+                                i, overlap, p.radius, speed);
+  }
+  return BuildResult::success();
+}
+
+/// build_coupled() after its checks. May throw std::bad_alloc.
+BuildResult build_coupled_sized(const CoupledDesc& desc, const DemDesc<1>& dem, CoupledModel& m, CoupledState& s,
+                                CoupledWorkspace& w) {
   // The coupled check replaces the halves' own.
   BarDesc bar = desc.bar;
   bar.energy_check = kEnergyCheckOff;
   BuildResult r = build_bar(bar, m.bar, s.bar, w.bar);
-  if (!r.ok()) return BuildResult::failure(r.code, "bar.%s", r.message);
-
-  // The bar's top is a plane at x = L, normal up, that coupled_step drives.
-  DemDesc<1> dem = desc.dem;
-  dem.energy_check = kEnergyCheckOff;
-  dem.dt = desc.bar.dt / desc.dem_substeps;
-  dem.planes.push_back({{desc.bar.length}, {1.0}});
+  if (!r.ok()) return prefixed("bar.", r);
+  if (r = check_tip_overlaps(dem, desc.bar.length, m.bar.tip_mass); !r.ok()) return r;
   r = build_dem(dem, m.dem, s.dem, w.dem);
-  if (!r.ok()) return BuildResult::failure(r.code, "dem.%s", r.message);
+  // Out of memory: said with the coupled world's counts (its copies of the state).
+  if (r.code == BuildResult::Code::memory) throw std::bad_alloc();
+  if (!r.ok()) return prefixed("dem.", r);
 
   m.substeps = desc.dem_substeps;
   m.dt = desc.bar.dt;
@@ -76,6 +100,41 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
   w.dem_end = s.dem;
   w.dem_first = s.dem;
   return BuildResult::success();
+}
+
+}  // namespace
+
+BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
+  m = CoupledModel{};
+  s = CoupledState{};
+  if (desc.dem_substeps < 1 || desc.dem_substeps > 1'000'000)
+    return BuildResult::failure(BuildResult::Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)",
+                                desc.dem_substeps);
+  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
+
+  // The bar's top is a plane at x = L, normal up, that coupled_step drives.
+  DemDesc<1> dem = desc.dem;
+  dem.energy_check = kEnergyCheckOff;
+  dem.dt = desc.bar.dt / desc.dem_substeps;
+  dem.planes.push_back({{desc.bar.length}, {1.0}});
+  // The budget is the coupled description's, counting the window's copies of
+  // the particles' state, checked before anything is allocated.
+  dem.max_memory_bytes = 0;
+  const DemMemory memory = dem_memory(dem);
+  if (desc.max_memory_bytes > 0 && memory.total(kDemStates) > desc.max_memory_bytes)
+    return prefixed("dem.", dem_detail::memory_refusal(dem, memory, kDemStates, kDemStatesNote, desc.max_memory_bytes, false));
+  try {
+    return build_coupled_sized(desc, dem, m, s, w);
+  } catch (const std::bad_alloc&) {
+    m = CoupledModel{};
+    s = CoupledState{};
+    w.dem = DemWorkspace<1>{};
+    w.bar = BarWorkspace{};
+    w.dem_start = DemState<1>{};
+    w.bar_start = BarState{};
+    w.dem_end = DemState<1>{};
+    return prefixed("dem.", dem_detail::memory_refusal(dem, memory, kDemStates, kDemStatesNote, desc.max_memory_bytes, true));
+  }
 }
 
 namespace {

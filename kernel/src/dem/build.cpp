@@ -2,11 +2,14 @@
 // DEM call that allocates.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <new>
 #include <utility>
 
 #include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
+#include "dem/memory.hpp"
 
 namespace xfdem {
 
@@ -65,12 +68,16 @@ bool finite_array(const double* a, int n) {
 template <int D>
 double max_contact_omega2(const DemDesc<D>& desc, bool pairs_possible) {
   double best = 0;
+  if (!desc.planes.empty())
+    for (const auto& p : desc.particles) best = std::max(best, p.stiffness / p.mass);
+  if (!pairs_possible) return best;
+  // Past 2048 classes the bound below is used: stop collecting there (a
+  // packing of distinct particles would otherwise map every one of them).
   std::map<std::pair<double, double>, int> classes;
   for (const auto& p : desc.particles) {
-    if (!desc.planes.empty()) best = std::max(best, p.stiffness / p.mass);
     classes.emplace(std::make_pair(p.stiffness, p.mass), 0);
+    if (classes.size() > 2048) break;
   }
-  if (!pairs_possible) return best;
   if (classes.size() > 2048) {
     // Bound: K(1/m_i + 1/m_j) <= k_i/m_i + k_j/m_j <= 2 max(k/m).
     for (const auto& p : desc.particles) best = std::max(best, 2.0 * p.stiffness / p.mass);
@@ -90,99 +97,64 @@ void size_columns(std::array<std::vector<double>, D>& c, std::size_t n) {
   for (auto& col : c) col.assign(n, 0.0);
 }
 
-}  // namespace
-
+/// A particle starting deeper in a plane than its radius (its centre on the
+/// solid side): refused, naming the particle and the plane.
 template <int D>
-BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  m = DemModel<D>{};
-  s = DemState<D>{};
-  w = DemWorkspace<D>{};
-  const auto n = static_cast<std::int64_t>(desc.particles.size());
-  if (n > 50'000'000) return BuildResult::failure(Code::capacity, "particles: %lld exceeds the 5e7 limit", (long long)n);
-  if (!(std::isfinite(desc.dt) && desc.dt > 0))
-    return BuildResult::failure(Code::invalid_argument, "dt: must be finite and > 0 (got %g)", desc.dt);
-  if (!(desc.damping_ratio >= 0 && desc.damping_ratio < 1))
-    return BuildResult::failure(Code::invalid_argument, "damping_ratio: must be in [0, 1) (got %g)", desc.damping_ratio);
-  if (!finite_array(desc.gravity.data(), D))
-    return BuildResult::failure(Code::invalid_argument, "gravity: must be finite");
-  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
-  if (!(std::isfinite(desc.skin) && desc.skin >= 0))
-    return BuildResult::failure(Code::invalid_argument, "skin: must be finite and >= 0 (got %g)", desc.skin);
-  for (std::int64_t i = 0; i < n; ++i) {
-    const auto& p = desc.particles[static_cast<std::size_t>(i)];
-    const auto fail = [&](const char* field, const char* what, double value) {
-      return BuildResult::failure(Code::invalid_argument, "particles[%lld].%s: %s (got %g)", (long long)i, field, what,
-                                  value);
-    };
-    if (!(std::isfinite(p.mass) && p.mass > 0)) return fail("mass", "must be finite and > 0", p.mass);
-    if (!(std::isfinite(p.radius) && p.radius > 0)) return fail("radius", "must be finite and > 0", p.radius);
-    if (!(std::isfinite(p.stiffness) && p.stiffness > 0)) return fail("stiffness", "must be finite and > 0", p.stiffness);
-    if (!finite_array(p.position.data(), D))
-      return BuildResult::failure(Code::invalid_argument, "particles[%lld].position: must be finite", (long long)i);
-    if (!finite_array(p.velocity.data(), D))
-      return BuildResult::failure(Code::invalid_argument, "particles[%lld].velocity: must be finite", (long long)i);
-  }
+BuildResult check_plane_overlaps(const DemDesc<D>& desc) {
   for (std::size_t p = 0; p < desc.planes.size(); ++p) {
     const auto& pl = desc.planes[p];
-    if (!finite_array(pl.point.data(), D) || !finite_array(pl.normal.data(), D))
-      return BuildResult::failure(Code::invalid_argument, "planes[%zu]: point and normal must be finite", p);
-    double len2 = 0;
-    for (double c : pl.normal) len2 += c * c;
-    if (!(len2 > 1e-300)) return BuildResult::failure(Code::invalid_argument, "planes[%zu].normal: must not be zero", p);
+    double len = 0;
+    for (double c : pl.normal) len += c * c;
+    len = std::sqrt(len);
+    for (std::size_t i = 0; i < desc.particles.size(); ++i) {
+      const auto& q = desc.particles[i];
+      double height = 0;  // of the centre above the plane
+      for (int d = 0; d < D; ++d) height += (q.position[d] - pl.point[d]) * (pl.normal[d] / len);
+      const double overlap = q.radius - height;
+      if (!(overlap > q.radius)) continue;
+      char speed[32];
+      dem_detail::format_speed(overlap * std::sqrt(q.stiffness / q.mass), speed, sizeof(speed));
+      return BuildResult::failure(Code::invalid_argument,
+                                  "particles[%zu].position: overlaps planes[%zu] by %g m at the start, more than its "
+                                  "radius %g m (its centre is on the plane's solid side): its contact would throw it "
+                                  "out at up to %s",
+                                  i, p, overlap, q.radius, speed);
+    }
   }
+  return BuildResult::success();
+}
 
-  // ---- features and broad phase --------------------------------------------
-  m.n = static_cast<std::int32_t>(n);
-  m.gravity = desc.gravity;
-  m.law = desc.law;
-  m.damping_ratio = desc.damping_ratio;
-  m.integrator = desc.integrator;
-  m.dt = desc.dt;
-  m.features.gravity = std::any_of(desc.gravity.begin(), desc.gravity.end(), [](double g) { return g != 0.0; });
-  m.features.damped = desc.damping_ratio > 0;
-  m.features.nontensile = desc.law == ContactLaw::linear_nontensile;
-  m.features.planes = !desc.planes.empty();
-  m.features.external_forces = desc.external_forces;
-  if (n < 2)
-    m.features.broad_phase = BroadPhase::none;
-  else if (n <= std::max<std::int32_t>(desc.all_pairs_up_to, 0))
-    m.features.broad_phase = BroadPhase::all_pairs;
-  else
-    m.features.broad_phase = BroadPhase::grid;
-
-  if (desc.split_from < 0)
-    return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
-  // The split is a property of the model, never of the number of workers.
-  if (desc.split_from > 0 && n >= desc.split_from && n >= 2) {
-    m.parts = 2;
-    m.split = static_cast<std::int32_t>(n / 2);
-  } else {
-    m.parts = 1;
-    m.split = static_cast<std::int32_t>(n);
+/// Two particles starting overlapped by more than the smaller radius: refused,
+/// naming the first such pair of the (built, sorted) pair list.
+template <int D>
+BuildResult check_pair_overlaps(const DemModel<D>& m, const DemState<D>& s) {
+  for (std::int32_t c = 0; c < s.pair_count; ++c) {
+    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
+    double dist2 = 0;
+    for (int d = 0; d < D; ++d) {
+      const double dx = s.x[d][j] - s.x[d][i];
+      dist2 += dx * dx;
+    }
+    const double overlap = m.radius[i] + m.radius[j] - std::sqrt(dist2);
+    const double smaller = std::min(m.radius[i], m.radius[j]);
+    if (!(overlap > smaller)) continue;
+    char speed[32];
+    dem_detail::format_speed(overlap * std::sqrt(s.pair_stiffness[c] * (m.inv_mass[i] + m.inv_mass[j])), speed,
+                             sizeof(speed));
+    return BuildResult::failure(Code::invalid_argument,
+                                "particles[%d].position: overlaps particles[%d] by %g m at the start, more than the "
+                                "smaller radius %g m: their contact would throw them apart at up to %s",
+                                j, i, overlap, smaller, speed);
   }
-  double r_max = 0;
-  for (const auto& p : desc.particles) r_max = std::max(r_max, p.radius);
-  m.skin = desc.skin > 0 ? desc.skin : 0.5 * r_max;
-  m.cell_size = 2.0 * r_max + m.skin;
+  return BuildResult::success();
+}
 
-  // ---- capacities ----------------------------------------------------------
-  const auto pick = [](std::int32_t given, std::int64_t fallback) {
-    return given > 0 ? static_cast<std::int64_t>(given) : fallback;
-  };
-  const std::int64_t all_pairs = n * (n - 1) / 2;
-  std::int64_t max_pairs = 0;
-  if (m.features.broad_phase == BroadPhase::all_pairs)
-    max_pairs = all_pairs;
-  else if (m.features.broad_phase == BroadPhase::grid)
-    max_pairs = pick(desc.capacities.max_pairs, 8 * n + 64);
-  const std::int64_t max_cells = pick(desc.capacities.max_grid_cells, 8 * n + 4096);
-  if (max_pairs > 400'000'000 || max_cells > 400'000'000)
-    return BuildResult::failure(Code::capacity, "capacities: max_pairs/max_grid_cells above 4e8");
-  m.capacities.max_pairs = static_cast<std::int32_t>(max_pairs);
-  m.capacities.max_neighbors_per_particle = static_cast<std::int32_t>(pick(desc.capacities.max_neighbors_per_particle, 48));
-  m.capacities.max_grid_cells = m.features.broad_phase == BroadPhase::grid ? static_cast<std::int32_t>(max_cells) : 0;
-  m.capacities.max_events_per_step = static_cast<std::int32_t>(pick(desc.capacities.max_events_per_step, 16));
-
+/// build_dem() after its checks: sizes and fills the model, state and
+/// workspace. May throw std::bad_alloc (build_dem turns it into a refusal).
+template <int D>
+BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& sizes, DemModel<D>& m,
+                       DemState<D>& s, DemWorkspace<D>& w) {
+  const auto n = static_cast<std::int64_t>(desc.particles.size());
   // ---- stable step -----------------------------------------------------------
   const double omega2 = max_contact_omega2(desc, m.features.broad_phase != BroadPhase::none);
   m.max_contact_omega = std::sqrt(omega2);
@@ -211,6 +183,8 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     m.stiffness[i] = p.stiffness;
     m.plane_eta[i] = 2.0 * desc.damping_ratio * std::sqrt(p.stiffness * p.mass);
   }
+  m.plane_point.reserve(desc.planes.size());
+  m.plane_normal.reserve(desc.planes.size());
   for (const auto& pl : desc.planes) {
     double len = 0;
     for (double c : pl.normal) len += c * c;
@@ -235,7 +209,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       s.x[d][i] = desc.particles[i].position[d];
       s.v[d][i] = desc.particles[i].velocity[d];
     }
-  const auto up = static_cast<std::size_t>(max_pairs);
+  const auto up = static_cast<std::size_t>(sizes.max_pairs);
   s.pair_i.assign(up, 0);
   s.pair_j.assign(up, 0);
   s.pair_stiffness.assign(up, 0.0);
@@ -250,7 +224,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   w.plane_force_part.assign(2 * planes, 0.0);
   size_columns<D>(w.cross, static_cast<std::size_t>(m.n - m.split));
   if (m.features.broad_phase == BroadPhase::grid) {
-    w.cell_start.assign(static_cast<std::size_t>(max_cells) + 1, 0);
+    w.cell_start.assign(static_cast<std::size_t>(sizes.max_cells) + 1, 0);
     w.cell_particles.assign(un, 0);
     w.particle_cell.assign(un, 0);
   }
@@ -293,6 +267,11 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                   "capacities: the initial configuration does not fit (%s); raise the named capacity",
                                   describe(status, text, sizeof(text)));
     }
+    // The list holds every pair within reach: the deep overlaps among them.
+    if (BuildResult r = check_pair_overlaps(m, s); !r.ok()) {
+      m.accelerations = nullptr;
+      return r;
+    }
     for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
     s.hist_plane_force[0] = w.plane_force;
     if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
@@ -301,6 +280,100 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   m.energy_check = desc.energy_check;
   dem_restart_energy_ledger(m, s);
   return BuildResult::success();
+}
+
+}  // namespace
+
+template <int D>
+BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  m = DemModel<D>{};
+  s = DemState<D>{};
+  w = DemWorkspace<D>{};
+  const auto n = static_cast<std::int64_t>(desc.particles.size());
+  if (n > 50'000'000) return BuildResult::failure(Code::capacity, "particles: %lld exceeds the 5e7 limit", (long long)n);
+  if (!(std::isfinite(desc.dt) && desc.dt > 0))
+    return BuildResult::failure(Code::invalid_argument, "dt: must be finite and > 0 (got %g)", desc.dt);
+  if (!(desc.damping_ratio >= 0 && desc.damping_ratio < 1))
+    return BuildResult::failure(Code::invalid_argument, "damping_ratio: must be in [0, 1) (got %g)", desc.damping_ratio);
+  if (!finite_array(desc.gravity.data(), D))
+    return BuildResult::failure(Code::invalid_argument, "gravity: must be finite");
+  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
+  if (!(std::isfinite(desc.skin) && desc.skin >= 0))
+    return BuildResult::failure(Code::invalid_argument, "skin: must be finite and >= 0 (got %g)", desc.skin);
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto& p = desc.particles[static_cast<std::size_t>(i)];
+    const auto fail = [&](const char* field, const char* what, double value) {
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].%s: %s (got %g)", (long long)i, field, what,
+                                  value);
+    };
+    if (!(std::isfinite(p.mass) && p.mass > 0)) return fail("mass", "must be finite and > 0", p.mass);
+    if (!(std::isfinite(p.radius) && p.radius > 0)) return fail("radius", "must be finite and > 0", p.radius);
+    if (!(std::isfinite(p.stiffness) && p.stiffness > 0)) return fail("stiffness", "must be finite and > 0", p.stiffness);
+    if (!finite_array(p.position.data(), D))
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].position: must be finite", (long long)i);
+    if (!finite_array(p.velocity.data(), D))
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].velocity: must be finite", (long long)i);
+  }
+  for (std::size_t p = 0; p < desc.planes.size(); ++p) {
+    const auto& pl = desc.planes[p];
+    if (!finite_array(pl.point.data(), D) || !finite_array(pl.normal.data(), D))
+      return BuildResult::failure(Code::invalid_argument, "planes[%zu]: point and normal must be finite", p);
+    double len2 = 0;
+    for (double c : pl.normal) len2 += c * c;
+    if (!(len2 > 1e-300)) return BuildResult::failure(Code::invalid_argument, "planes[%zu].normal: must not be zero", p);
+  }
+  if (BuildResult r = check_plane_overlaps(desc); !r.ok()) return r;
+  if (desc.split_from < 0)
+    return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
+
+  // ---- sizes, and what they take, before anything is allocated ----------------
+  const dem_detail::ResolvedSizes sizes = dem_detail::resolve_sizes(desc);
+  if (sizes.max_pairs > std::numeric_limits<std::int32_t>::max())
+    return BuildResult::failure(Code::capacity,
+                                "particles: %lld particles paired all with all need %lld pairs, more than this build "
+                                "can index (2147483647); lower all_pairs_up_to",
+                                (long long)n, (long long)sizes.max_pairs);
+  if (sizes.max_cells > dem_detail::kMaxGridCells)
+    return BuildResult::failure(Code::capacity, "capacities.max_grid_cells: %lld is more than this build can index (%lld)",
+                                (long long)sizes.max_cells, (long long)dem_detail::kMaxGridCells);
+  const DemMemory memory = dem_memory(desc);
+  if (desc.max_memory_bytes > 0 && memory.total() > desc.max_memory_bytes)
+    return dem_detail::memory_refusal(desc, memory, 1, "", desc.max_memory_bytes, false);
+
+  // ---- features and broad phase --------------------------------------------
+  m.n = static_cast<std::int32_t>(n);
+  m.gravity = desc.gravity;
+  m.law = desc.law;
+  m.damping_ratio = desc.damping_ratio;
+  m.integrator = desc.integrator;
+  m.dt = desc.dt;
+  m.features.gravity = std::any_of(desc.gravity.begin(), desc.gravity.end(), [](double g) { return g != 0.0; });
+  m.features.damped = desc.damping_ratio > 0;
+  m.features.nontensile = desc.law == ContactLaw::linear_nontensile;
+  m.features.planes = !desc.planes.empty();
+  m.features.external_forces = desc.external_forces;
+  m.features.broad_phase = sizes.broad_phase;
+  m.parts = sizes.parts;
+  m.split = sizes.split;
+  double r_max = 0;
+  for (const auto& p : desc.particles) r_max = std::max(r_max, p.radius);
+  m.skin = desc.skin > 0 ? desc.skin : 0.5 * r_max;
+  m.cell_size = 2.0 * r_max + m.skin;
+  m.capacities.max_pairs = static_cast<std::int32_t>(sizes.max_pairs);
+  m.capacities.max_neighbors_per_particle = static_cast<std::int32_t>(sizes.max_neighbors);
+  m.capacities.max_grid_cells = static_cast<std::int32_t>(sizes.max_cells);
+  m.capacities.max_events_per_step = static_cast<std::int32_t>(sizes.max_events);
+
+  // The kernel never throws: an allocation the system refuses is a refusal too,
+  // and leaves nothing allocated.
+  try {
+    return size_world(desc, sizes, m, s, w);
+  } catch (const std::bad_alloc&) {
+    m = DemModel<D>{};
+    s = DemState<D>{};
+    w = DemWorkspace<D>{};
+    return dem_detail::memory_refusal(desc, memory, 1, "", desc.max_memory_bytes, true);
+  }
 }
 
 template BuildResult build_dem<1>(const DemDesc<1>&, DemModel<1>&, DemState<1>&, DemWorkspace<1>&);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <numbers>
 
 #include "xfdem/xfem/element.hpp"
@@ -232,11 +233,30 @@ BuildResult validate_bar(const BarDesc& d) {
   return BuildResult::success();
 }
 
+namespace {
+BuildResult build_bar_sized(const BarDesc& d, BarModel& model, BarState& state, BarWorkspace& workspace);
+}  // namespace
+
 BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWorkspace& workspace) {
   model = BarModel{};
   state = BarState{};
   workspace = BarWorkspace{};
   if (BuildResult r = validate_bar(d); !r.ok()) return r;
+  // The kernel never throws: an allocation the system refuses is a refusal,
+  // and leaves nothing allocated.
+  try {
+    return build_bar_sized(d, model, state, workspace);
+  } catch (const std::bad_alloc&) {
+    model = BarModel{};
+    state = BarState{};
+    workspace = BarWorkspace{};
+    return BuildResult::failure(Code::memory, "elements: the allocator could not provide the arrays of %d elements",
+                                d.elements);
+  }
+}
+
+namespace {
+BuildResult build_bar_sized(const BarDesc& d, BarModel& model, BarState& state, BarWorkspace& workspace) {
 
   model.desc = d;
   const int ne = d.elements;
@@ -433,6 +453,7 @@ BuildResult build_bar(const BarDesc& d, BarModel& model, BarState& state, BarWor
   bar_initial_acceleration(model, state, workspace);
   return BuildResult::success();
 }
+}  // namespace
 
 double bar_tip_load(const BarModel& m, double t) {
   const BarDesc& d = m.desc;

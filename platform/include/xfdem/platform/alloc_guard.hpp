@@ -5,6 +5,7 @@
 // around a block of steps and assert that it did not move; the
 // ScopedForbidAllocation guard additionally records the first offending size so
 // that a failure says what was allocated. Cf. Eigen's EIGEN_RUNTIME_NO_MALLOC.
+// ScopedAllocationLimit makes large allocations fail, as out of memory.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +25,17 @@ class AllocationCounter {
 
  private:
   std::uint64_t start_;
+};
+
+/// While alive, every single allocation larger than `bytes` fails with
+/// std::bad_alloc, as on a machine out of memory: for tests of what a build
+/// does when the system refuses it. Not nestable.
+class ScopedAllocationLimit {
+ public:
+  explicit ScopedAllocationLimit(std::size_t bytes) noexcept;
+  ~ScopedAllocationLimit();
+  ScopedAllocationLimit(const ScopedAllocationLimit&) = delete;
+  ScopedAllocationLimit& operator=(const ScopedAllocationLimit&) = delete;
 };
 
 }  // namespace xfdem::platform
