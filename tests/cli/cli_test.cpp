@@ -203,15 +203,15 @@ TEST(Cli, CapacityPastTheMachinesMemoryIsRefusedNamingTheKey) {
                        "are paired all with all in a fixed list; it bounds the grid that more particles use"),
             std::string::npos)
       << r.err;
-  // 2e9 pairs in the particle state and the coupled window's two copies of it: 144 GB.
+  // 2e9 pairs in the particle state, the coupled window's three copies of it and its sensitivity: 240 GB.
   const std::uint64_t memory = xfdem::platform::physical_memory_bytes();
-  if (memory == 0 || memory >= 144'000'000'000ull) GTEST_SKIP() << "this machine has " << bytes_text(double(memory));
+  if (memory == 0 || memory >= 240'000'000'000ull) GTEST_SKIP() << "this machine has " << bytes_text(double(memory));
   r = run("run " + scene("case2_xfem.json") +
           " --set dem.all_pairs_up_to=0 --set dem.capacities.max_pairs=2000000000 --csv " + csv.string());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 2000000000 pairs take 144 GB of the 144 GB the "
-                       "particles' arrays need (24 bytes a pair, in the state and the coupled window's 2 copies of "
-                       "it), more than the memory budget of " +
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 2000000000 pairs take 240 GB of the 240 GB the "
+                       "particles' arrays need (24 bytes a pair, in the state, the coupled window's 3 copies of it "
+                       "and its sensitivity to the force, counted as a fifth), more than the memory budget of " +
                        bytes_text(static_cast<double>(memory)) + " (this machine's physical memory)"),
             std::string::npos)
       << r.err;
@@ -235,9 +235,9 @@ TEST(Cli, OutOfMemoryIsReportedNotACrash) {
                                    " --set dem.all_pairs_up_to=0 --set dem.capacities.max_pairs=100000000 --csv " +
                                    csv.string());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 100000000 pairs take 7.2 GB of the 7.2 GB the "
-                       "particles' arrays need (24 bytes a pair, in the state and the coupled window's 2 copies of "
-                       "it): the allocator could not provide them"),
+  EXPECT_NE(r.err.find("scene key 'dem.capacities.max_pairs': 100000000 pairs take 12 GB of the 12 GB the "
+                       "particles' arrays need (24 bytes a pair, in the state, the coupled window's 3 copies of it "
+                       "and its sensitivity to the force, counted as a fifth): the allocator could not provide them"),
             std::string::npos)
       << r.err;
   r = limited("200000", "run " + scene("v1_k1e4.json") +

@@ -22,24 +22,25 @@ CoupledDesc case2_with_a_large_pair_list() {
 
 TEST(CoupledBuild, MemoryBudgetCountsTheWindowsCopiesOfTheParticleState) {
   CoupledDesc d = case2_with_a_large_pair_list();
-  d.max_memory_bytes = 50'000'000;  // one state's 24 MB fits, three do not
+  d.max_memory_bytes = 50'000'000;  // one state's 24 MB fits, five do not
   d.dem.max_memory_bytes = 0;
   CoupledWorld w;
   BuildResult r = w.build(d);
   EXPECT_EQ(r.code, BuildResult::Code::memory);
   EXPECT_EQ(std::string(r.message),
-            "dem.capacities.max_pairs: 1000000 pairs take 72 MB of the 72 MB the particles' arrays need (24 bytes a "
-            "pair, in the state and the coupled window's 2 copies of it), more than the memory budget of 50 MB "
-            "(max_memory_bytes)");
+            "dem.capacities.max_pairs: 1000000 pairs take 120 MB of the 120 MB the particles' arrays need (24 bytes a "
+            "pair, in the state, the coupled window's 3 copies of it and its sensitivity to the force, counted as a "
+            "fifth), more than the memory budget of 50 MB (max_memory_bytes)");
   EXPECT_EQ(w.model.bar.dofs, 0) << "refused before the bar was built";
   EXPECT_EQ(w.step(), StepStatus::not_built);
   // The coupled budget replaces the particles' own.
-  d.max_memory_bytes = 80'000'000;
+  d.max_memory_bytes = 130'000'000;
   d.dem.max_memory_bytes = 1;
   r = w.build(d);
   EXPECT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(w.workspace.dem_start.pair_i.size(), 1'000'000u);
   EXPECT_EQ(w.workspace.dem_end.pair_i.size(), 1'000'000u);
+  EXPECT_EQ(w.workspace.dem_first.pair_i.size(), 1'000'000u);
 }
 
 TEST(CoupledBuild, AnAllocationTheSystemRefusesIsARefusalNotAnException) {
@@ -52,8 +53,9 @@ TEST(CoupledBuild, AnAllocationTheSystemRefusesIsARefusalNotAnException) {
   }
   EXPECT_EQ(r.code, BuildResult::Code::memory);
   EXPECT_EQ(std::string(r.message),
-            "dem.capacities.max_pairs: 1000000 pairs take 72 MB of the 72 MB the particles' arrays need (24 bytes a "
-            "pair, in the state and the coupled window's 2 copies of it): the allocator could not provide them");
+            "dem.capacities.max_pairs: 1000000 pairs take 120 MB of the 120 MB the particles' arrays need (24 bytes a "
+            "pair, in the state, the coupled window's 3 copies of it and its sensitivity to the force, counted as a "
+            "fifth): the allocator could not provide them");
   EXPECT_EQ(w.step(), StepStatus::not_built);
   EXPECT_TRUE(w.state.dem.pair_i.empty());  // nothing is left allocated
 

@@ -15,10 +15,13 @@ namespace xfdem {
 
 namespace {
 
-/// The particles' state is held three times: the state itself and the
-/// window's start and end (CoupledWorkspace::dem_start, dem_end).
-constexpr int kDemStates = 3;
-constexpr const char* kDemStatesNote = ", in the state and the coupled window's 2 copies of it";
+/// The particles' state is held five times over: the state itself, the
+/// window's start, end and first pass (CoupledWorkspace::dem_start, dem_end,
+/// dem_first), and the window's sensitivity (CoupledState::sensitivity, one
+/// double per double of the state: at most a state's size).
+constexpr int kDemStates = 5;
+constexpr const char* kDemStatesNote =
+    ", in the state, the coupled window's 3 copies of it and its sensitivity to the force, counted as a fifth";
 
 BuildResult prefixed(const char* prefix, const BuildResult& r) { return BuildResult::failure(r.code, "%s%s", prefix, r.message); }
 
@@ -133,6 +136,7 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
     w.dem_start = DemState<1>{};
     w.bar_start = BarState{};
     w.dem_end = DemState<1>{};
+    w.dem_first = DemState<1>{};
     return prefixed("dem.", dem_detail::memory_refusal(dem, memory, kDemStates, kDemStatesNote, desc.max_memory_bytes, true));
   }
 }
