@@ -141,7 +141,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene key 'dem.particles.0.position': given twice"},
         BadInput{"--set dem.capacities.max_events_per_step=3",
                  "scene key 'dem.capacities.max_events_per_step': not used: only dem.integrator abm4_events locates "
-                 "contact events (this scene's is abm4)"}));
+                 "contact events (this scene's is abm4)"},
+        // the same key set twice on the command line (the last used to win silently)
+        BadInput{"--set time.dt=1e-4 --set time.dt=2e-4", "--set time.dt: given twice"}));
 
 // A coupled scene's particles step at time.dt / time.dem_substeps: past their
 // stable step, the message names time.dt, the substep and what to change.

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -444,7 +445,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   } catch (const Json::exception& e) {
     throw SceneError("scene file '" + path + "' is not valid JSON: " + e.what());
   }
-  for (const auto& o : overrides) apply_override(document, o);
+  // One value per key, as in the file: a key set twice is the same mistake as
+  // a key written twice.
+  std::set<std::string> overridden;
+  for (const auto& o : overrides) {
+    const std::string key = o.substr(0, o.find('='));
+    if (!overridden.insert(key).second) throw SceneError("--set " + key + ": given twice");
+    apply_override(document, o);
+  }
   return parse_scene(document);
 }
 

@@ -2,9 +2,8 @@
 //
 // Linking xfdem::alloc_guard replaces the global operator new/delete with
 // versions that count every call (on every thread). Tests read the counter
-// around a block of steps and assert that it did not move; the
-// ScopedForbidAllocation guard additionally records the first offending size so
-// that a failure says what was allocated. Cf. Eigen's EIGEN_RUNTIME_NO_MALLOC.
+// around a block of steps (AllocationCounter) and assert that it did not move.
+// Cf. Eigen's EIGEN_RUNTIME_NO_MALLOC.
 // ScopedAllocationLimit makes large allocations fail, as out of memory.
 #pragma once
 #include <cstddef>
