@@ -299,6 +299,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   }
   s.history_count = 1;
   m.energy_check = desc.energy_check;
+  if (desc.small_system_path) m.small_step = dem_detail::select_small_step<D>(m);
   dem_restart_energy_ledger(m, s);
   return BuildResult::success();
 }
