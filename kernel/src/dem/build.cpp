@@ -7,6 +7,7 @@
 
 #include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
+#include "dem/network.hpp"
 
 namespace xfdem {
 

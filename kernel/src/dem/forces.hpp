@@ -52,11 +52,7 @@ inline void fold_contacts(std::uint64_t& signature, std::uint64_t evaluation) {
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
-/// Gershgorin bound on the squared highest frequency of the contacts touching
-/// at positions x: listed pairs that overlap and planes a sphere reaches.
-/// Defined in network.cpp.
-template <int D>
-double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
+// network_omega2 (the contact network's stable-step bound): dem/network.hpp.
 
 /// dx = x_j − x_i per axis; returns |dx|² (the one order of operations every
 /// path uses, so that they round alike).

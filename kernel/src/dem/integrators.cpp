@@ -13,6 +13,7 @@
 
 #include "dem/energy_books.hpp"
 #include "dem/forces.hpp"
+#include "dem/network.hpp"
 
 namespace xfdem {
 namespace {
@@ -126,7 +127,8 @@ struct SmallRun {
   void over(F&& f) const {
     f(std::int32_t{0}, m.n);
   }
-  StepStatus eval(double t, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) const {
+  // One function with the force code inlined (flatten), called from each stage.
+  [[gnu::flatten, gnu::noinline]] StepStatus eval(double t, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) const {
     w.eval_time = t;
     return dem_detail::one_part_accelerations<D, Gravity, Damped, NonTensile>(m, s, w, x, v, a);
   }
@@ -577,16 +579,16 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
 ///    damped one reads the cached K and η of every touching pair);
 ///  - the planes' values and the time the step started from, O(planes): a NaN
 ///    there makes a contact test false instead of propagating.
-template <int D>
-bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, double start_time,
-                bool read_whole_history) {
+template <int D, class Run>
+bool all_finite(const Run& run, double start_time, bool read_whole_history) {
+  const DemModel<D>& m = run.m;
+  const DemState<D>& s = run.s;
   // The other slots, oldest first: h3 is the one the step started from (its
   // acceleration was read, its velocity copy was not).
   const int head = s.history_head, h1 = (head + 1) & 3, h2 = (head + 2) & 3, h3 = (head + 3) & 3;
   const bool check_x_ref = m.features.broad_phase != BroadPhase::grid;
   double probe[2] = {0, 0};
-  for_parts(w.parallel, m.parts, [&](int part) {
-    const std::int32_t begin = part == 0 ? 0 : m.split, end = part == 0 ? m.split : m.n;
+  run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
       const double *x = s.x[d].data(), *v = s.v[d].data(), *a = s.hist_a[head][d].data();
@@ -599,7 +601,7 @@ bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D
       }
       if (check_x_ref) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
     }
-    probe[part] = sum;
+    probe[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
   });
   double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference +
                   0.0 * s.energy.work + 0.0 * s.energy.peak;
@@ -659,7 +661,7 @@ StepStatus step_with(const Run& run) {
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
-  if (!all_finite(m, s, w, start_time, read_whole_history)) status |= StepStatus::non_finite;
+  if (!all_finite<D>(run, start_time, read_whole_history)) status |= StepStatus::non_finite;
   const double moment_end = moment_booked ? dem_detail::external_force_moment(m, s) : 0.0;
   s.energy.work += (moment_end - moment_start) + (dem_detail::plane_work_sum(s) - planes_start);
   if (energy_check_due(m.energy_check, s.step))
