@@ -124,6 +124,13 @@ struct DemDesc {
   std::uint64_t max_memory_bytes = 0;
   /// The energy balance check of dem_step() (DemState::energy).
   EnergyCheck energy_check;
+  /// Few particles (at most 8) in one part with a fixed pair list (broad phase
+  /// none or all_pairs), any integrator but abm4_events: step them by the
+  /// small-system step (DemModel::small_step), the general step's code
+  /// instantiated for the scene's features, without its per-part loops and
+  /// kernel calls through a pointer. Same bits either way; false forces the
+  /// general step (tests compare the two).
+  bool small_system_path = true;
 };
 
 /// The broad phase build_dem() picks for a number of particles: none below
@@ -183,6 +190,10 @@ template <int D>
 using AccelerationKernel = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, ConstColumns<D> x,
                                           ConstColumns<D> v, Columns<D> a);
 
+/// A whole step (DemModel::small_step).
+template <int D>
+using StepFunction = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&);
+
 template <int D>
 struct DemModel {
   std::int32_t n = 0;  ///< particles
@@ -213,6 +224,9 @@ struct DemModel {
   /// interval start decides; abm4_events only).
   AccelerationKernel<D> accelerations = nullptr;
   AccelerationKernel<D> accelerations_frozen = nullptr;
+  /// The small-system step (DemDesc::small_system_path) or nullptr: the
+  /// general one. dem_step() takes it unless the host installed a clock.
+  StepFunction<D> small_step = nullptr;
   EnergyCheck energy_check;  ///< DemDesc::energy_check
 };
 

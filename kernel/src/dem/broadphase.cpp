@@ -13,6 +13,7 @@
 
 #include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
+#include "dem/network.hpp"
 
 namespace xfdem::dem_detail {
 

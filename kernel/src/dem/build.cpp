@@ -10,6 +10,7 @@
 #include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
 #include "dem/memory.hpp"
+#include "dem/network.hpp"
 
 namespace xfdem {
 
@@ -278,6 +279,7 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   }
   s.history_count = 1;
   m.energy_check = desc.energy_check;
+  if (desc.small_system_path) m.small_step = dem_detail::select_small_step<D>(m);
   dem_restart_energy_ledger(m, s);
   return BuildResult::success();
 }

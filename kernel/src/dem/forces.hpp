@@ -52,11 +52,7 @@ inline void fold_contacts(std::uint64_t& signature, std::uint64_t evaluation) {
 template <int D>
 StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
 
-/// Gershgorin bound on the squared highest frequency of the contacts touching
-/// at positions x: listed pairs that overlap and planes a sphere reaches.
-/// Defined in network.cpp.
-template <int D>
-double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x);
+// network_omega2 (the contact network's stable-step bound): dem/network.hpp.
 
 /// dx = x_j − x_i per axis; returns |dx|² (the one order of operations every
 /// path uses, so that they round alike).
@@ -284,6 +280,44 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
   return status;
 }
 
+/// a = g + F_ext / m on particles [begin, end): where every evaluation starts.
+template <int D, bool Gravity>
+inline void input_accelerations(const DemModel<D>& m, const DemState<D>& s, Columns<D> a, std::int32_t begin,
+                                std::int32_t end) {
+  for (int d = 0; d < D; ++d) {
+    const double g = Gravity ? m.gravity[d] : 0.0;
+    double* ad = a[d];
+    for (std::int32_t i = begin; i < end; ++i) ad[i] = g;
+    if (m.features.external_forces) {
+      const double* f = s.external_force[d].data();
+      for (std::int32_t i = begin; i < end; ++i) ad[i] += f[i] * m.inv_mass[i];
+    }
+  }
+}
+
+/// Plain-mode evaluation of a model in one part: inputs, planes (totals into
+/// w.plane_force), pairs (the grid's list rebuilt first if it is stale), in
+/// this order. The general kernel below runs it through its pointer; the
+/// small-system step (integrators.cpp) inlines it.
+template <int D, bool Gravity, bool Damped, bool NonTensile>
+[[gnu::always_inline]] inline StepStatus one_part_accelerations(const DemModel<D>& m, DemState<D>& s,
+                                                                DemWorkspace<D>& w, ConstColumns<D> x,
+                                                                ConstColumns<D> v, Columns<D> a) {
+  const std::int32_t n = m.n;
+  input_accelerations<D, Gravity>(m, s, a, 0, n);
+  std::uint64_t active = plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
+  StepStatus status = StepStatus::ok;
+  if (m.features.broad_phase != BroadPhase::none) {
+    if (m.features.broad_phase == BroadPhase::grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
+      const StepStatus built = build_pair_list<D>(m, s, w, x);
+      if (built != StepStatus::ok) return built;
+    }
+    status = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, s.pair_count, n, a, active);
+  }
+  fold_contacts(w.contact_signature, active);
+  return status;
+}
+
 /// a = g + Σ contact forces / m at the state (x, v).
 /// Frozen: a contact is on iff it was on at the interval start (w.mode_x,
 /// w.mode_v), and then follows the unclamped linear law even past δ = 0; the
@@ -293,34 +327,11 @@ template <int D, bool Gravity, bool Damped, bool NonTensile, bool Frozen>
 StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
                          ConstColumns<D> v, Columns<D> a) {
   const std::int32_t n = m.n;
-  auto gravity = [&](std::int32_t begin, std::int32_t end) {
-    for (int d = 0; d < D; ++d) {
-      const double g = Gravity ? m.gravity[d] : 0.0;
-      double* ad = a[d];
-      for (std::int32_t i = begin; i < end; ++i) ad[i] = g;
-      if (m.features.external_forces) {
-        const double* f = s.external_force[d].data();
-        for (std::int32_t i = begin; i < end; ++i) ad[i] += f[i] * m.inv_mass[i];
-      }
-    }
-  };
+  auto gravity = [&](std::int32_t begin, std::int32_t end) { input_accelerations<D, Gravity>(m, s, a, begin, end); };
   if constexpr (!Frozen) {
     const bool grid = m.features.broad_phase == BroadPhase::grid;
     const std::size_t planes = m.plane_point.size();
-    if (m.parts == 1) {
-      gravity(0, n);
-      std::uint64_t active = plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
-      StepStatus status = StepStatus::ok;
-      if (m.features.broad_phase != BroadPhase::none) {
-        if (grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {
-          const StepStatus built = build_pair_list<D>(m, s, w, x);
-          if (built != StepStatus::ok) return built;
-        }
-        status = pair_forces<D, Damped, NonTensile>(m, s, x, v, a, 0, s.pair_count, n, a, active);
-      }
-      fold_contacts(w.contact_signature, active);
-      return status;
-    }
+    if (m.parts == 1) return one_part_accelerations<D, Gravity, Damped, NonTensile>(m, s, w, x, v, a);
     // Two parts: particles [0, split) and [split, n). Phase 1: each part's
     // gravity, plane contacts (totals per part) and displacement check.
     bool moved[2] = {false, false};
@@ -460,5 +471,14 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
 /// The kernel for a feature set (plain or frozen).
 template <int D>
 AccelerationKernel<D> select_kernel(const DemFeatures& f, bool frozen);
+
+/// Most particles the small-system step takes (DemDesc::small_system_path).
+constexpr std::int32_t kSmallSystem = 8;
+
+/// The small-system step for a built model, or nullptr where it does not
+/// apply (more than kSmallSystem particles, two parts, the grid, abm4_events).
+/// Defined in integrators.cpp.
+template <int D>
+StepFunction<D> select_small_step(const DemModel<D>& m);
 
 }  // namespace xfdem::dem_detail

@@ -9,10 +9,11 @@
 // History convention: slot `history_head` of hist_v/hist_a holds f(y_n).
 #include <cmath>
 #include <algorithm>
-#include <initializer_list>
+#include <type_traits>
 
 #include "dem/energy_books.hpp"
 #include "dem/forces.hpp"
+#include "dem/network.hpp"
 
 namespace xfdem {
 namespace {
@@ -32,12 +33,11 @@ Columns<D> view(std::array<std::vector<double>, D>& a) {
   return c;
 }
 
-/// Runs f(begin, end) over the model's particle parts (one or two), through
-/// the host's ParallelFor. Loops that touch only their own particles give the
-/// same bits however the parts are run.
-template <int D, class F>
-void over_particles(const DemModel<D>& m, const DemWorkspace<D>& w, F&& f) {
-  for_parts(w.parallel, m.parts, [&](int part) { f(part == 0 ? 0 : m.split, part == 0 ? m.split : m.n); });
+template <int D>
+ConstColumns<D> constant(Columns<D> c) {
+  ConstColumns<D> r;
+  for (int d = 0; d < D; ++d) r[d] = c[d];
+  return r;
 }
 
 constexpr bool stop_now(StepStatus s) { return has(s, kStepNotTaken); }
@@ -55,31 +55,106 @@ StepStatus evaluate(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
   return status;
 }
 
-/// out = c · Σ_k weight_k · force_k over the planes (the impulse ledger).
-inline void weigh(std::vector<double>& out, double c, std::initializer_list<std::pair<double, const double*>> terms) {
+/// One term of a plane ledger sum: weight · the planes' forces at an evaluation.
+struct Weighted {
+  double weight;
+  const double* force;
+};
+
+/// out = c · Σ_k weight_k · force_k over the planes (the impulse ledger), the
+/// terms added in order from 0. An array, not an initializer_list, so that the
+/// compiler unrolls it.
+template <std::size_t K>
+inline void weigh(std::vector<double>& out, double c, const Weighted (&terms)[K]) {
   for (std::size_t p = 0; p < out.size(); ++p) {
     double sum = 0;
-    for (const auto& [weight, force] : terms) sum += weight * force[p];
+    for (const Weighted& term : terms) sum += term.weight * term.force[p];
     out[p] = c * sum;
   }
 }
+
+/// Where a step's loops and force evaluations run. The integrators below are
+/// written once over it, so both runs do the same operations in the same
+/// order (tests/dem/small_system_test.cpp compares their bits step by step).
+///
+/// GeneralRun: any model. Loops over the model's parts through the host's
+/// ParallelFor, the force kernel picked at build called through its pointer
+/// (and timed when the host installed a clock), the new state built in the
+/// workspace and committed by swapping buffers, so that a step that hits a
+/// capacity leaves the state untouched.
+template <int D>
+struct GeneralRun {
+  const DemModel<D>& m;
+  DemState<D>& s;
+  DemWorkspace<D>& w;
+  AccelerationKernel<D> kernel;
+
+  template <class F>
+  void over(F&& f) const {
+    for_parts(w.parallel, m.parts, [&](int part) { f(part == 0 ? 0 : m.split, part == 0 ? m.split : m.n); });
+  }
+  StepStatus eval(double t, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) const {
+    return evaluate<D>(m, s, w, kernel, t, x, v, a);
+  }
+  /// Where the step puts the new x, v and their acceleration.
+  Columns<D> x1() const { return view<D>(w.x1); }
+  Columns<D> v1() const { return view<D>(w.v1); }
+  Columns<D> a1() const { return view<D>(w.a0); }
+  /// Moves them into the state and history slot `slot`.
+  void adopt(std::int32_t slot) const {
+    for (int d = 0; d < D; ++d) {
+      s.x[d].swap(w.x1[d]);
+      s.v[d].swap(w.v1[d]);
+      s.hist_a[slot][d].swap(w.a0[d]);
+    }
+  }
+};
+
+/// SmallRun: few particles in one part with a fixed pair list (broad phase
+/// none or all_pairs) and no event location: DemModel::small_step, picked at
+/// build. One plain loop, the same force code inlined for the scene's
+/// features, and the new x, v and acceleration written straight into the
+/// state and the next history slot (every update is element by element, so
+/// in place reads what it would read from a copy). Nothing there can hit a
+/// capacity, so the step is never refused.
+template <int D, bool Gravity, bool Damped, bool NonTensile>
+struct SmallRun {
+  const DemModel<D>& m;
+  DemState<D>& s;
+  DemWorkspace<D>& w;
+
+  template <class F>
+  void over(F&& f) const {
+    f(std::int32_t{0}, m.n);
+  }
+  // One function with the force code inlined (flatten), called from each stage.
+  [[gnu::flatten, gnu::noinline]] StepStatus eval(double t, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) const {
+    w.eval_time = t;
+    return dem_detail::one_part_accelerations<D, Gravity, Damped, NonTensile>(m, s, w, x, v, a);
+  }
+  Columns<D> x1() const { return view<D>(s.x); }
+  Columns<D> v1() const { return view<D>(s.v); }
+  Columns<D> a1() const { return view<D>(s.hist_a[(s.history_head + 1) & 3]); }
+  void adopt(std::int32_t) const {}
+};
 
 /// One classical RK4 step of size h from (x0, v0) whose acceleration a0 is
 /// known, into (x1, v1). Stage work in w.xs/vs/as and w.sum_x/sum_v.
 /// S3 is evaluated at y_n + S2 h/2 (paper-notes, slip in eq 31).
 /// t0 is the time of (x0, v0) and f0 the planes' forces there; the planes'
 /// weighted impulse h/6 (F1 + 2F2 + 2F3 + F4) is left in w.plane_weighted.
-template <int D>
-StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> kernel,
-                    double t0, ConstColumns<D> x0, ConstColumns<D> v0, ConstColumns<D> a0, const double* f0, double h,
-                    Columns<D> x1, Columns<D> v1) {
+/// x1, v1 may be x0, v0 (in place).
+template <int D, class Run>
+StepStatus rk4_step(const Run& run, double t0, ConstColumns<D> x0, ConstColumns<D> v0, ConstColumns<D> a0,
+                    const double* f0, double h, Columns<D> x1, Columns<D> v1) {
+  DemWorkspace<D>& w = run.w;
   const double half = 0.5 * h;
   auto xs = view<D>(w.xs), vs = view<D>(w.vs), as = view<D>(w.as);
   auto sx = view<D>(w.sum_x), sv = view<D>(w.sum_v);
   auto cxs = view<D>(static_cast<const std::array<std::vector<double>, D>&>(w.xs));
   auto cvs = view<D>(static_cast<const std::array<std::vector<double>, D>&>(w.vs));
   // S1 = (v0, a0); stage 2 at y0 + S1 h/2.
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
         sx[d][i] = v0[d][i];
@@ -90,11 +165,11 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
   });
   std::vector<double>& ledger = w.plane_weighted;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = f0[p];
-  StepStatus status = evaluate<D>(m, s, w, kernel, t0 + half, cxs, cvs, as);
+  StepStatus status = run.eval(t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S2 = (vs, as); stage 3 at y0 + S2 h/2.
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
         const double s2x = vs[d][i], s2v = as[d][i];
@@ -104,11 +179,11 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
         vs[d][i] = v0[d][i] + half * s2v;
       }
   });
-  status |= evaluate<D>(m, s, w, kernel, t0 + half, cxs, cvs, as);
+  status |= run.eval(t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S3; stage 4 at y0 + S3 h.
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
         const double s3x = vs[d][i], s3v = as[d][i];
@@ -118,11 +193,11 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
         vs[d][i] = v0[d][i] + h * s3v;
       }
   });
-  status |= evaluate<D>(m, s, w, kernel, t0 + h, cxs, cvs, as);
+  status |= run.eval(t0 + h, cxs, cvs, as);
   if (stop_now(status)) return status;
   const double sixth = h / 6.0;
   for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
         x1[d][i] = x0[d][i] + sixth * (sx[d][i] + vs[d][i]);
@@ -132,124 +207,129 @@ StepStatus rk4_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Ac
   return status;
 }
 
-/// Makes (w.x1, w.v1) the new state and `acc` its acceleration (kept in a new
-/// history slot). Buffers are swapped, not copied.
-/// The planes' forces at the last evaluation (of the new state) go into the
-/// same history slot, and the step's plane impulse `impulse` into the ledger.
-template <int D>
-void commit(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::array<std::vector<double>, D>& acc,
-            const std::vector<double>& impulse) {
+/// Makes the run's (x1, v1) the new state and a1 its acceleration, kept in a
+/// new history slot with a copy of the velocity. The planes' forces at the
+/// last evaluation (of the new state) go into the same history slot, and the
+/// step's plane impulse `impulse` into the ledger.
+template <int D, class Run>
+void commit(const Run& run, const std::vector<double>& impulse) {
+  DemState<D>& s = run.s;
   const std::int32_t slot = (s.history_head + 1) & 3;  // head is in [0, 4): & 3 is % 4 without the sign fix-up
-  for (int d = 0; d < D; ++d) {
-    s.x[d].swap(w.x1[d]);
-    s.v[d].swap(w.v1[d]);
-    s.hist_a[slot][d].swap(acc[d]);
-  }
+  run.adopt(slot);
   // A plain loop, not std::copy: for the few particles of a coupled scene the
   // memmove call costs more than the copy.
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
       const double* v = s.v[d].data();
       double* kept = s.hist_v[slot][d].data();
       for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
     }
   });
-  s.hist_plane_force[slot].swap(w.plane_force);  // w.plane_force is rewritten by every evaluation
+  s.hist_plane_force[slot].swap(run.w.plane_force);  // w.plane_force is rewritten by every evaluation
   for (std::size_t p = 0; p < impulse.size(); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
 }
 
 /// Evaluates f(y_n) into the head slot when the history was invalidated.
-template <int D>
-StepStatus ensure_current_acceleration(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+template <int D, class Run>
+StepStatus ensure_current_acceleration(const Run& run) {
+  DemState<D>& s = run.s;
   if (s.history_count > 0) return StepStatus::ok;
-  const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time, view<D>(static_cast<const decltype(s.x)&>(s.x)),
-                                       view<D>(static_cast<const decltype(s.v)&>(s.v)),
-                                       view<D>(s.hist_a[s.history_head]));
+  const auto& cs = s;
+  const StepStatus status = run.eval(s.time, view<D>(cs.x), view<D>(cs.v), view<D>(s.hist_a[s.history_head]));
   if (stop_now(status)) return status;
   for (int d = 0; d < D; ++d) s.hist_v[s.history_head][d] = s.v[d];
-  s.hist_plane_force[s.history_head] = w.plane_force;
+  s.hist_plane_force[s.history_head] = run.w.plane_force;
   s.history_count = 1;
   return status;
 }
 
-template <int D>
-StepStatus step_rk4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+template <int D, class Run>
+StepStatus step_rk4(const Run& run) {
+  const DemModel<D>& m = run.m;
+  DemState<D>& s = run.s;
   const auto& cs = s;
-  StepStatus status = rk4_step<D>(m, s, w, m.accelerations, s.time, view<D>(cs.x), view<D>(cs.v),
-                                  view<D>(cs.hist_a[s.history_head]), s.hist_plane_force[s.history_head].data(), m.dt,
-                                  view<D>(w.x1), view<D>(w.v1));
+  const Columns<D> x1 = run.x1(), v1 = run.v1();
+  StepStatus status = rk4_step<D>(run, s.time, view<D>(cs.x), view<D>(cs.v), view<D>(cs.hist_a[s.history_head]),
+                                  s.hist_plane_force[s.history_head].data(), m.dt, x1, v1);
   if (stop_now(status)) return status;
   // f(y_{n+1}) is S1 of the next step (and the multistep history).
-  status |= evaluate<D>(m, s, w, m.accelerations, s.time + m.dt, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                        view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  status |= run.eval(s.time + m.dt, constant<D>(x1), constant<D>(v1), run.a1());
   if (stop_now(status)) return status;
-  commit<D>(m, s, w, w.a0, w.plane_weighted);
+  commit<D>(run, run.w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
 
-template <int D>
-StepStatus step_verlet(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+template <int D, class Run>
+StepStatus step_verlet(const Run& run) {
+  const DemModel<D>& m = run.m;
+  DemState<D>& s = run.s;
+  DemWorkspace<D>& w = run.w;
   const double h = m.dt, half = 0.5 * m.dt;
   const auto& a = s.hist_a[s.history_head];
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  const Columns<D> x1 = run.x1(), v1 = run.v1(), a1 = run.a1();
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
         const double v_half = s.v[d][i] + half * a[d][i];
         w.vs[d][i] = v_half;
-        w.x1[d][i] = s.x[d][i] + h * v_half;
+        x1[d][i] = s.x[d][i] + h * v_half;
       }
   });
   // The dashpot sees the half-step velocity (explicit; LIGGGHTS does the same).
-  const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time + h,
-                                        view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                                        view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.a0));
+  const StepStatus status =
+      run.eval(s.time + h, constant<D>(x1), view<D>(static_cast<const decltype(w.vs)&>(w.vs)), a1);
   if (stop_now(status)) return status;
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
-      for (std::int32_t i = begin; i < end; ++i) w.v1[d][i] = w.vs[d][i] + half * w.a0[d][i];
+      for (std::int32_t i = begin; i < end; ++i) v1[d][i] = w.vs[d][i] + half * a1[d][i];
   });
   weigh(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
-  commit<D>(m, s, w, w.a0, w.plane_weighted);
+  commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
 
-template <int D>
-StepStatus step_symplectic_euler(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+template <int D, class Run>
+StepStatus step_symplectic_euler(const Run& run) {
+  const DemModel<D>& m = run.m;
+  DemState<D>& s = run.s;
+  DemWorkspace<D>& w = run.w;
   const double h = m.dt;
   const auto& a = s.hist_a[s.history_head];
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  const Columns<D> x1 = run.x1(), v1 = run.v1();
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
         const double v_new = s.v[d][i] + h * a[d][i];
-        w.v1[d][i] = v_new;
-        w.x1[d][i] = s.x[d][i] + h * v_new;
+        v1[d][i] = v_new;
+        x1[d][i] = s.x[d][i] + h * v_new;
       }
   });
-  const StepStatus status = evaluate<D>(m, s, w, m.accelerations, s.time + h,
-                                        view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                                        view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  const StepStatus status = run.eval(s.time + h, constant<D>(x1), constant<D>(v1), run.a1());
   if (stop_now(status)) return status;
   weigh(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
-  commit<D>(m, s, w, w.a0, w.plane_weighted);
+  commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
 }
 
-/// One ABM4 PECE step (history complete) from the state into (w.x1, w.v1).
-/// `predict_kernel` evaluates at the prediction (frozen for abm4_events).
-/// Reports non_finite if a predicted position is not finite: the prediction
-/// reaches the new state only through the forces, and a contact test with NaN
-/// is false, so the oldest velocity slot (which nothing else reads) would
-/// otherwise silently drop the particle's contacts.
-template <int D>
-StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, AccelerationKernel<D> predict_kernel) {
+/// One ABM4 PECE step (history complete) from the state into the run's
+/// (x1, v1). The run's kernel evaluates at the prediction (frozen for
+/// abm4_events). Reports non_finite if a predicted position is not finite:
+/// the prediction reaches the new state only through the forces, and a
+/// contact test with NaN is false, so the oldest velocity slot (which nothing
+/// else reads) would otherwise silently drop the particle's contacts.
+template <int D, class Run>
+StepStatus abm4_pece(const Run& run) {
+  const DemModel<D>& m = run.m;
+  DemState<D>& s = run.s;
+  DemWorkspace<D>& w = run.w;
   const double c = m.dt / 24.0;
   const int f0 = s.history_head, f1 = (f0 + 3) & 3, f2 = (f0 + 2) & 3, f3 = (f0 + 1) & 3;  // head in [0, 4)
   double probe[2] = {0, 0};
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
       const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
@@ -266,24 +346,24 @@ StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, A
     }
     probe[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
   });
-  StepStatus status = evaluate<D>(m, s, w, predict_kernel, s.time + m.dt,
-                                  view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
-                                  view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
+  StepStatus status = run.eval(s.time + m.dt, view<D>(static_cast<const decltype(w.xs)&>(w.xs)),
+                               view<D>(static_cast<const decltype(w.vs)&>(w.vs)), view<D>(w.as));
   if (stop_now(status)) return status;
   if (!(probe[0] + probe[1] == 0.0)) status |= StepStatus::non_finite;
   // The planes' share of the corrector's velocity update.
   weigh(w.plane_weighted, c,
         {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
          {1.0, s.hist_plane_force[f2].data()}});
-  over_particles<D>(m, w, [&](std::int32_t begin, std::int32_t end) {
+  const Columns<D> x1 = run.x1(), v1 = run.v1();
+  run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
-      const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
+      const double *v0 = s.hist_v[f0][d].data(), *v1h = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
       const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
       const double *x = s.x[d].data(), *v = s.v[d].data();
       const double *vs = w.vs[d].data(), *as = w.as[d].data();
-      double *x1 = w.x1[d].data(), *vn = w.v1[d].data();
+      double *xn = x1[d], *vn = v1[d];
       for (std::int32_t i = begin; i < end; ++i) {
-        x1[i] = x[i] + c * (9.0 * vs[i] + 19.0 * v0[i] - 5.0 * v1[i] + v2[i]);
+        xn[i] = x[i] + c * (9.0 * vs[i] + 19.0 * v0[i] - 5.0 * v1h[i] + v2[i]);
         vn[i] = v[i] + c * (9.0 * as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
       }
     }
@@ -291,15 +371,14 @@ StepStatus abm4_pece(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, A
   return status;
 }
 
-template <int D>
-StepStatus step_abm4(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  if (s.history_count < 4) return step_rk4(m, s, w);  // the three RK4 start steps
-  StepStatus status = abm4_pece<D>(m, s, w, m.accelerations);
+template <int D, class Run>
+StepStatus step_abm4(const Run& run) {
+  if (run.s.history_count < 4) return step_rk4<D>(run);  // the three RK4 start steps
+  StepStatus status = abm4_pece<D>(run);
   if (stop_now(status)) return status;
-  status |= evaluate<D>(m, s, w, m.accelerations, s.time + m.dt, view<D>(static_cast<const decltype(w.x1)&>(w.x1)),
-                        view<D>(static_cast<const decltype(w.v1)&>(w.v1)), view<D>(w.a0));
+  status |= run.eval(run.s.time + run.m.dt, constant<D>(run.x1()), constant<D>(run.v1()), run.a1());
   if (stop_now(status)) return status;
-  commit<D>(m, s, w, w.a0, w.plane_weighted);
+  commit<D>(run, run.w.plane_weighted);
   return status;
 }
 
@@ -389,6 +468,7 @@ bool columns_finite(const DemModel<D>& m, ConstColumns<D> x, ConstColumns<D> v) 
 template <int D>
 StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   const auto& cs = s;
+  const GeneralRun<D> plain{m, s, w, m.accelerations}, frozen{m, s, w, m.accelerations_frozen};
   const double t_n = s.time, t_end = s.time + m.dt;
   auto x_n = view<D>(cs.x), v_n = view<D>(cs.v);
   w.mode_x = x_n;
@@ -396,10 +476,10 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   w.mode_time = t_n;
   StepStatus status;
   if (s.history_count < 4) {
-    status = rk4_step<D>(m, s, w, m.accelerations_frozen, t_n, x_n, v_n, view<D>(cs.hist_a[s.history_head]),
+    status = rk4_step<D>(frozen, t_n, x_n, v_n, view<D>(cs.hist_a[s.history_head]),
                          s.hist_plane_force[s.history_head].data(), m.dt, view<D>(w.x1), view<D>(w.v1));
   } else {
-    status = abm4_pece<D>(m, s, w, m.accelerations_frozen);
+    status = abm4_pece<D>(frozen);
   }
   if (stop_now(status)) return status;
   auto x1c = view<D>(static_cast<const decltype(w.x1)&>(w.x1));
@@ -411,7 +491,7 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
       !contact_set_changed<D>(m, s, t_n, x_n, v_n, t_end, x1c, v1c)) {
     status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.a0));
     if (stop_now(status)) return status;
-    commit<D>(m, s, w, w.a0, w.plane_weighted);
+    commit<D>(plain, w.plane_weighted);
     s.history_count = std::min(s.history_count + 1, 4);
     return status;
   }
@@ -432,7 +512,7 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   double t0 = t_n, remaining = m.dt;
   std::int32_t events = 0;
   auto piece = [&](double length) {
-    return rk4_step<D>(m, s, w, m.accelerations_frozen, t0, x0, v0, a0, w.plane_force0.data(), length, view<D>(w.x1),
+    return rk4_step<D>(frozen, t0, x0, v0, a0, w.plane_force0.data(), length, view<D>(w.x1),
                        view<D>(w.v1));
   };
   for (;;) {
@@ -477,9 +557,10 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   for (std::size_t p = 0; p < w.plane_step_impulse.size(); ++p) w.plane_step_impulse[p] += w.plane_weighted[p];
   w.mode_x = {};
   w.mode_v = {};
-  status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.as));
+  // Into w.a0 (the last piece's start acceleration, read no more), which commit takes.
+  status |= evaluate<D>(m, s, w, m.accelerations, t_end, x1c, v1c, view<D>(w.a0));
   if (stop_now(status)) return status;
-  commit<D>(m, s, w, w.as, w.plane_step_impulse);
+  commit<D>(plain, w.plane_step_impulse);
   s.history_count = 1;  // restart: the next three steps are RK4
   s.events_located += events;
   s.peak_events = std::max(s.peak_events, events);
@@ -498,16 +579,16 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
 ///    damped one reads the cached K and η of every touching pair);
 ///  - the planes' values and the time the step started from, O(planes): a NaN
 ///    there makes a contact test false instead of propagating.
-template <int D>
-bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, double start_time,
-                bool read_whole_history) {
+template <int D, class Run>
+bool all_finite(const Run& run, double start_time, bool read_whole_history) {
+  const DemModel<D>& m = run.m;
+  const DemState<D>& s = run.s;
   // The other slots, oldest first: h3 is the one the step started from (its
   // acceleration was read, its velocity copy was not).
   const int head = s.history_head, h1 = (head + 1) & 3, h2 = (head + 2) & 3, h3 = (head + 3) & 3;
   const bool check_x_ref = m.features.broad_phase != BroadPhase::grid;
   double probe[2] = {0, 0};
-  for_parts(w.parallel, m.parts, [&](int part) {
-    const std::int32_t begin = part == 0 ? 0 : m.split, end = part == 0 ? m.split : m.n;
+  run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
       const double *x = s.x[d].data(), *v = s.v[d].data(), *a = s.hist_a[head][d].data();
@@ -520,7 +601,7 @@ bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D
       }
       if (check_x_ref) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
     }
-    probe[part] = sum;
+    probe[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
   });
   double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference +
                   0.0 * s.energy.work + 0.0 * s.energy.peak;
@@ -532,25 +613,14 @@ bool all_finite(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D
   return probe[0] + probe[1] + planes == 0.0;
 }
 
-}  // namespace
-
-template <int D>
-StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w);
-
-template <int D>
-StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  if (w.clock_ns == nullptr) return dem_step_untimed<D>(m, s, w);
-  const std::int64_t start = w.clock_ns();
-  const StepStatus status = dem_step_untimed<D>(m, s, w);
-  w.profile.step_ns += w.clock_ns() - start;
-  ++w.profile.steps;
-  return status;
-}
-
-template <int D>
-StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  if (m.accelerations == nullptr) return StepStatus::not_built;
-  StepStatus status = ensure_current_acceleration(m, s, w);
+/// One step through `run` (GeneralRun or SmallRun): the integrator, then the
+/// time, the network bound, the finiteness check and the energy books.
+template <int D, class Run>
+StepStatus step_with(const Run& run) {
+  const DemModel<D>& m = run.m;
+  DemState<D>& s = run.s;
+  DemWorkspace<D>& w = run.w;
+  StepStatus status = ensure_current_acceleration<D>(run);
   if (stop_now(status)) return status;
   const double start_time = s.time;  // overwritten below, read by the step (moving planes)
   // The work of the external forces and moving planes is booked by differences
@@ -562,11 +632,13 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   const bool read_whole_history =
       (m.integrator == DemIntegrator::abm4 || m.integrator == DemIntegrator::abm4_events) && s.history_count == 4;
   switch (m.integrator) {
-    case DemIntegrator::abm4: status |= step_abm4(m, s, w); break;
-    case DemIntegrator::abm4_events: status |= step_abm4_events(m, s, w); break;
-    case DemIntegrator::verlet: status |= step_verlet(m, s, w); break;
-    case DemIntegrator::symplectic_euler: status |= step_symplectic_euler(m, s, w); break;
-    case DemIntegrator::rk4: status |= step_rk4(m, s, w); break;
+    case DemIntegrator::abm4: status |= step_abm4<D>(run); break;
+    case DemIntegrator::abm4_events:
+      if constexpr (std::is_same_v<Run, GeneralRun<D>>) status |= step_abm4_events(m, s, w);
+      break;
+    case DemIntegrator::verlet: status |= step_verlet<D>(run); break;
+    case DemIntegrator::symplectic_euler: status |= step_symplectic_euler<D>(run); break;
+    case DemIntegrator::rk4: status |= step_rk4<D>(run); break;
   }
   if (stop_now(status)) {
     // Positions, velocities and time are untouched; intermediate evaluations
@@ -589,12 +661,63 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
-  if (!all_finite(m, s, w, start_time, read_whole_history)) status |= StepStatus::non_finite;
+  if (!all_finite<D>(run, start_time, read_whole_history)) status |= StepStatus::non_finite;
   const double moment_end = moment_booked ? dem_detail::external_force_moment(m, s) : 0.0;
   s.energy.work += (moment_end - moment_start) + (dem_detail::plane_work_sum(s) - planes_start);
   if (energy_check_due(m.energy_check, s.step))
     energy_check(s.energy, m.energy_check, dem_detail::energy_totals(m, s, w.parallel));
   if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
+  return status;
+}
+
+/// The small-system step for a feature set (DemModel::small_step).
+template <int D, bool Gravity, bool Damped, bool NonTensile>
+StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile>{m, s, w});
+}
+
+}  // namespace
+
+namespace dem_detail {
+
+template <int D>
+StepFunction<D> select_small_step(const DemModel<D>& m) {
+  if (m.n > kSmallSystem || m.parts != 1 || m.features.broad_phase == BroadPhase::grid ||
+      m.integrator == DemIntegrator::abm4_events)
+    return nullptr;
+  const DemFeatures& f = m.features;
+  switch ((f.gravity ? 4 : 0) | (f.damped ? 2 : 0) | (f.nontensile ? 1 : 0)) {
+    case 0: return &small_step<D, false, false, false>;
+    case 1: return &small_step<D, false, false, true>;
+    case 2: return &small_step<D, false, true, false>;
+    case 3: return &small_step<D, false, true, true>;
+    case 4: return &small_step<D, true, false, false>;
+    case 5: return &small_step<D, true, false, true>;
+    case 6: return &small_step<D, true, true, false>;
+    default: return &small_step<D, true, true, true>;
+  }
+}
+template StepFunction<1> select_small_step<1>(const DemModel<1>&);
+template StepFunction<2> select_small_step<2>(const DemModel<2>&);
+template StepFunction<3> select_small_step<3>(const DemModel<3>&);
+
+}  // namespace dem_detail
+
+template <int D>
+StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  if (m.accelerations == nullptr) return StepStatus::not_built;
+  // The small-system step has no stage clocks: a profiled step takes the general one (same bits).
+  if (m.small_step != nullptr && w.clock_ns == nullptr) return m.small_step(m, s, w);
+  return step_with<D>(GeneralRun<D>{m, s, w, m.accelerations});
+}
+
+template <int D>
+StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  if (w.clock_ns == nullptr) return dem_step_untimed<D>(m, s, w);
+  const std::int64_t start = w.clock_ns();
+  const StepStatus status = dem_step_untimed<D>(m, s, w);
+  w.profile.step_ns += w.clock_ns() - start;
+  ++w.profile.steps;
   return status;
 }
 

@@ -11,13 +11,16 @@
 // single contact's value when no particle has two contacts, and is exact for
 // a chain and for cubic and face-centred lattices (where T_i is a multiple of
 // the identity).
+//
+// A header, so that the small-system step inlines it (it runs after every step).
+#pragma once
 #include <cmath>
 
 #include "dem/forces.hpp"
 
 namespace xfdem::dem_detail {
 
-namespace {
+namespace network {
 
 /// Index of entry (r, c), r ≤ c, of a symmetric D × D matrix stored by rows.
 template <int D>
@@ -32,10 +35,12 @@ void add_outer(double* t, double weight, const double (&n)[D]) {
     for (int c = r; c < D; ++c) t[packed<D>(r, c)] += weight * n[r] * n[c];
 }
 
-}  // namespace
+}  // namespace network
 
+/// Gershgorin bound on the squared highest frequency of the contacts touching
+/// at positions x: listed pairs that overlap and planes a sphere reaches.
 template <int D>
-double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
+[[gnu::always_inline]] inline double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   constexpr int kEntries = D * (D + 1) / 2;
   const std::int32_t n = m.n;
   double* t = w.network_row.data();
@@ -50,8 +55,8 @@ double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D
     const double dist = std::sqrt(dist2);
     for (int d = 0; d < D; ++d) normal[d] = dist > 0 ? dx[d] / dist : (d == 0 ? 1.0 : 0.0);
     const double omega2 = s.pair_stiffness[c] * (m.inv_mass[i] + m.inv_mass[j]);
-    add_outer<D>(t + std::int64_t{i} * kEntries, omega2, normal);
-    add_outer<D>(t + std::int64_t{j} * kEntries, omega2, normal);
+    network::add_outer<D>(t + std::int64_t{i} * kEntries, omega2, normal);
+    network::add_outer<D>(t + std::int64_t{j} * kEntries, omega2, normal);
   }
   const std::size_t planes = m.plane_point.size();
   for (std::size_t p = 0; p < planes; ++p) {
@@ -62,7 +67,7 @@ double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D
       double height = 0;
       for (int d = 0; d < D; ++d) height += (x[d][i] - point[d]) * normal[d];
       if (m.radius[i] - height > 0)
-        add_outer<D>(t + std::int64_t{i} * kEntries, m.stiffness[i] * m.inv_mass[i], normal);
+        network::add_outer<D>(t + std::int64_t{i} * kEntries, m.stiffness[i] * m.inv_mass[i], normal);
     }
   }
   double worst = 0;
@@ -70,18 +75,11 @@ double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D
     const double* ti = t + std::int64_t{i} * kEntries;
     for (int r = 0; r < D; ++r) {
       double row = 0;
-      for (int c = 0; c < D; ++c) row += std::fabs(ti[r <= c ? packed<D>(r, c) : packed<D>(c, r)]);
+      for (int c = 0; c < D; ++c) row += std::fabs(ti[r <= c ? network::packed<D>(r, c) : network::packed<D>(c, r)]);
       worst = std::max(worst, row);
     }
   }
   return worst;
 }
-
-#define XFDEM_INSTANTIATE(D)                                                                                   \
-  template double network_omega2<D>(const DemModel<D>&, const DemState<D>&, DemWorkspace<D>&, ConstColumns<D>);
-XFDEM_INSTANTIATE(1)
-XFDEM_INSTANTIATE(2)
-XFDEM_INSTANTIATE(3)
-#undef XFDEM_INSTANTIATE
 
 }  // namespace xfdem::dem_detail
