@@ -75,14 +75,34 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
   // For one spring the closed gap has the sign of the open one (the spring only
   // scales it by 1/(1 + k gᵀA⁻¹g)), so this settles in at most two solves; the
   // bound guards the contract, not a known cycle.
+  // When both sets disagree with the gaps they give, the gaps are round-off:
+  // in exact arithmetic they have one sign, but the closed one, the open one
+  // scaled by 1/(1 + k gᵀA⁻¹g), is computed as gᵀũ + βh²gᵀa, which cancels to
+  // ε|gᵀũ|; below that its sign is noise (a stiff penalty resting ahead of the
+  // wave, gaps of 1e-34 m, flipped the set at every solve until the bound
+  // reported active_set_not_converged). Either set is then consistent to
+  // round-off; the one whose gap is smaller is kept. Its gap may have the other
+  // sign by as much: a located event at the next step's start (step_with_events).
   const int max_iterations = m_.desc.max_active_set_iterations;
+  double gap_other = 0.0;
+  bool tried_other = false;
   for (int it = 0; it < max_iterations; ++it) {
     solve_with(closed_ != 0);
     const double gap_new = gap_x + fac0 * bar_gap_of(m_, k);
     ws_.solved_gap = gap_new;
     const std::int32_t want = gap_new < 0.0 ? 1 : 0;
     if (want == closed_) return StepStatus::ok;
+    if (tried_other) {
+      if (std::fabs(gap_new) > std::fabs(gap_other)) {
+        closed_ = want;
+        solve_with(closed_ != 0);
+        ws_.solved_gap = gap_other;
+      }
+      return StepStatus::ok;
+    }
     if (it + 1 == max_iterations) break;
+    gap_other = gap_new;
+    tried_other = true;
     closed_ = want;
   }
   return StepStatus::active_set_not_converged;
@@ -630,10 +650,14 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     double lo = 0.0, g_lo = g_start, hi = 1.0, g_hi = g_end;
     auto relative = [&](double g) { return g == 0.0 ? 0.0 : std::fabs(g) / gap_magnitude(m, st.u.data()); };
     double hi_residual = relative(g_end);
-    if (g_start == 0.0) {
-      // The piece starts on the zero (an interface at rest) and leaves it on
-      // the other set's side: the event is its start. (Bracketing would halve
-      // towards it for ever: the gap there shrinks with the piece's length.)
+    if (g_start == 0.0 || !agrees(closed, g_start)) {
+      // The piece starts on the zero (an interface at rest), or past it by
+      // round-off (a set the active-set solve kept where both sets' gaps were
+      // its noise), and leaves it on the other set's side: the event is its
+      // start. (Bracketing would halve towards it for ever: the gap there
+      // shrinks with the piece's length; and the substep of a few ulps it would
+      // end with solves an effective matrix that is M, re-solving a with the
+      // round-off of K u divided by a sliver's mass.)
       hi = 0.0;
       hi_residual = 0.0;
     }
