@@ -132,6 +132,11 @@ struct BarModel {
   /// M a = f − C v − K u (whose round-off M⁻¹ amplifies by the inverse of a
   /// sliver cut's tiny phantom mass: see docs/xfem.md, Small cuts).
   std::vector<double> tip_unit_acceleration;
+  /// M⁻¹ g (g the gap's coefficients): the acceleration a unit interface force
+  /// along the gap adds. A switch of a unilateral interface's active set
+  /// changes a by k·gap times this (the spring's force at the switch, about
+  /// zero), instead of re-solving M a = f − C v − K u. Empty unless unilateral.
+  std::vector<double> gap_unit_acceleration;
   /// True when a step is linear in BarInput::tip_force (a tied interface or
   /// none: no active set to change). Then tip_response_{u,v,a} hold how the end
   /// of one bar_resolve_acceleration + bar_step changes per newton of tip force
@@ -221,6 +226,10 @@ struct BarWorkspace {
   } last_start;
   double work_before = 0.0, input_work_before = 0.0;  ///< BarState's books before it booked
   double last_net_force[2] = {0.0, 0.0};
+  /// Unilateral interface: the gap the last solve's spring acted on,
+  /// gᵀ(ũ + βh²a) as the solve saw it (not gᵀu of the rounded u). An opening
+  /// takes out exactly that force (step_with_events).
+  double solved_gap = 0.0;
 };
 
 /// Validates every field (the message starts with the field's name, e.g.
