@@ -15,6 +15,13 @@ struct BarWorld {
   StepStatus step() { return bar_step(model, state, workspace); }
 };
 
+struct PlateWorld {
+  PlateModel model;
+  PlateState state;
+  PlateWorkspace workspace;
+  StepStatus step() { return plate_step(model, state, workspace); }
+};
+
 [[noreturn]] void refuse(const std::string& block, const BuildResult& built) {
   const std::string message = built.message;
   // Coupled builds name "dem.…", "bar.…" (the scene's continuum block) or "time.…".
@@ -28,7 +35,7 @@ struct BarWorld {
 }  // namespace
 
 struct SceneWorld::Impl {
-  std::variant<DemWorld<1>, DemWorld<2>, DemWorld<3>, BarWorld, CoupledWorld> world;
+  std::variant<DemWorld<1>, DemWorld<2>, DemWorld<3>, BarWorld, CoupledWorld, PlateWorld> world;
 
   template <class F>
   auto with_state(F&& f) {
@@ -54,6 +61,10 @@ SceneWorld::SceneWorld(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   } else if (scene.bar) {
     auto& w = world.emplace<BarWorld>();
     if (const BuildResult built = build_bar(*scene.bar, w.model, w.state, w.workspace); !built.ok())
+      refuse("continuum", built);
+  } else if (scene.plate) {
+    auto& w = world.emplace<PlateWorld>();
+    if (const BuildResult built = build_plate(*scene.plate, w.model, w.state, w.workspace); !built.ok())
       refuse("continuum", built);
   } else {
     throw SceneError("scene: nothing to run");
