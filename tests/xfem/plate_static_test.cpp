@@ -200,3 +200,70 @@ TEST(PlateStatic, BadDescriptionsNameTheField) {
   d.beta = 0.25, d.gamma = 0.4;
   expect_rejected(d, "newmark.gamma");
 }
+
+// Cantilever under an end shear, plane stress, against the elasticity solution
+// of Timoshenko & Goodier (beam [0, L] × [−D/2, D/2], I = D³/12):
+//   u_x = −P y / (6EI) [(6L − 3x) x + (2 + ν)(y² − D²/4)]
+//   u_y =  P / (6EI) [3ν y² (L − x) + (4 + 5ν) D² x / 4 + (3L − x) x²]
+//   σ_xx = −P (L − x) y / I,  σ_yy = 0,  σ_xy = P / (2I) (D²/4 − y²)
+// The exact displacements are prescribed on the left edge, the parabolic
+// shear is the right edge's traction (consistent nodal forces, point forces at
+// the nodes: Simpson's rule is exact for the cubic N·τ), top and bottom free.
+// Q4 locks in bending, so coarse meshes are stiff; the tip deflection error
+// falls at second order.
+TEST(PlateStatic, CantileverConvergesToTheElasticitySolution) {
+  const double length = 4.0, depth = 1.0, e = 1e7, nu = 0.3, p = 100.0;
+  const double inertia = depth * depth * depth / 12.0;
+  auto exact_ux = [&](double x, double y) {
+    return -p * y / (6 * e * inertia) * ((6 * length - 3 * x) * x + (2 + nu) * (y * y - 0.25 * depth * depth));
+  };
+  auto exact_uy = [&](double x, double y) {
+    return p / (6 * e * inertia) *
+           (3 * nu * y * y * (length - x) + (4 + 5 * nu) * depth * depth * x / 4 + (3 * length - x) * x * x);
+  };
+  auto shear = [&](double y) { return p / (2 * inertia) * (0.25 * depth * depth - y * y); };
+  const double tip_exact = exact_uy(length, 0.0);
+  std::vector<double> errors;
+  std::vector<double> sizes;
+  for (int ny : {2, 4, 8, 16, 32}) {
+    PlateDesc d = steel(PlateDesc::Plane::stress);
+    d.youngs_modulus = e;
+    d.poisson_ratio = nu;
+    d.min[0] = 0.0, d.min[1] = -0.5 * depth, d.max[0] = length, d.max[1] = 0.5 * depth;
+    d.cells[0] = 4 * ny, d.cells[1] = ny;
+    for (int j = 0; j <= ny; ++j) {
+      const double y = node_y(d, j);
+      d.prescribed.push_back({{0.0, y}, {exact_ux(0.0, y), exact_uy(0.0, y)}});
+    }
+    for (int j = 0; j < ny; ++j) {
+      const double y0 = node_y(d, j), y1 = node_y(d, j + 1), h = y1 - y0;
+      const double tm = shear(0.5 * (y0 + y1));
+      for (int k = 0; k < 2; ++k) {
+        PlateLoad f;
+        f.kind = PlateLoad::Kind::point_force;
+        f.at[0] = length, f.at[1] = k == 0 ? y0 : y1;
+        f.value[1] = d.thickness * h / 6.0 * ((k == 0 ? shear(y0) : shear(y1)) + 2.0 * tm);
+        d.loads.push_back(f);
+      }
+    }
+    PlateModel m;
+    PlateState st;
+    PlateWorkspace ws;
+    const BuildResult r = build_plate(d, m, st, ws);
+    ASSERT_TRUE(r.ok()) << r.message;
+    const double tip = plate_displacement(m, st, length, 0.0, 1);
+    errors.push_back(std::fabs(tip - tip_exact) / tip_exact);
+    sizes.push_back(depth / ny);
+    std::printf("cantilever %3d x %2d: tip deflection %.10g (exact %.10g), relative error %.3e", d.cells[0], ny, tip,
+                tip_exact, errors.back());
+    if (errors.size() > 1)
+      std::printf(", order %.3f", std::log(errors[errors.size() - 2] / errors.back()) / std::log(2.0));
+    std::printf("\n");
+    EXPECT_LT(tip, tip_exact);  // Q4 is too stiff in bending
+  }
+  const std::size_t n = errors.size();
+  const double order = std::log(errors[n - 2] / errors[n - 1]) / std::log(2.0);
+  EXPECT_GT(order, 1.9);
+  EXPECT_LT(order, 2.1);
+  EXPECT_LT(errors[n - 1], 1e-3);
+}
