@@ -118,6 +118,8 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set continuum.plane=strain --set continuum.material.poisson_ratio=0.5",
                       "scene key 'continuum.material.poisson_ratio': must be < 0.5 in plane strain"},
         PlateBadInput{"--set continuum.cells=[0,3]", "scene key 'continuum.cells': each count must be in [1, 100000]"},
+        PlateBadInput{"--set continuum.cells=[3000,3000]",
+                      "scene key 'continuum.cells': 3000 x 3000 needs about 1.08e+11 stored entries per matrix"},
         PlateBadInput{"--set 'continuum.prescribed=[{\"at\":[0.05,0],\"displacement\":[0,0]}]'",
                       "scene key 'continuum.prescribed.0.at': (0.05, 0) is not a node of the mesh"},
         PlateBadInput{"--set 'continuum.prescribed=[{\"at\":[0,0.5],\"displacement\":[1e-3,0]}]'",

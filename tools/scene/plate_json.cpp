@@ -169,8 +169,10 @@ PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gra
   // Everything above names its key; the kernel's own validation is the backstop.
   if (const BuildResult r = validate_plate(d); !r.ok()) {
     const std::string message = r.message;
-    if (message.rfind("dt:", 0) == 0) throw SceneError("scene key 'time." + message);
-    throw SceneError("scene key '" + c.path() + "." + message);
+    const std::size_t colon = message.find(": ");
+    const std::string field = message.substr(0, colon), reason = message.substr(colon + 2);
+    const std::string key = field == "dt" ? "time.dt" : c.path() + "." + field;
+    throw SceneError("scene key '" + key + "': " + reason);
   }
   return d;
 }

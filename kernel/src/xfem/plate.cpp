@@ -13,6 +13,9 @@ namespace {
 
 using Code = BuildResult::Code;
 
+/// Bound on the stored entries of one profile matrix (8 bytes each).
+constexpr double kMaxProfileEntries = 5.0e7;
+
 bool positive_finite(double x) { return std::isfinite(x) && x > 0.0; }
 
 BuildResult fail(const char* format, double value) { return BuildResult::failure(Code::invalid_argument, format, value); }
@@ -151,9 +154,18 @@ BuildResult validate_plate(const PlateDesc& d) {
       return BuildResult::failure(Code::invalid_argument, "cells: must be at least 1 in %s, got %d", c == 0 ? "x" : "y",
                                   d.cells[c]);
   }
-  if (static_cast<double>(d.cells[0] + 1) * static_cast<double>(d.cells[1] + 1) > 2.0e8)
-    return BuildResult::failure(Code::capacity, "cells: %d x %d is more than this build can index", d.cells[0],
-                                d.cells[1]);
+  {
+    // Each of the four profile matrices (M, K, and the factors) stores about
+    // 2 nodes × (2 min(nx, ny) + 4) entries: bound it (a scene must not be
+    // able to ask for terabytes).
+    const double nodes = static_cast<double>(d.cells[0] + 1) * static_cast<double>(d.cells[1] + 1);
+    const double entries = 2.0 * nodes * (2.0 * std::min(d.cells[0], d.cells[1]) + 4.0);
+    if (entries > kMaxProfileEntries)
+      return BuildResult::failure(Code::capacity,
+                                  "cells: %d x %d needs about %.3g stored entries per matrix, more than this build's "
+                                  "%.3g",
+                                  d.cells[0], d.cells[1], entries, kMaxProfileEntries);
+  }
   if (d.plane != PlateDesc::Plane::strain && d.plane != PlateDesc::Plane::stress)
     return BuildResult::failure(Code::invalid_argument, "plane: must be strain or stress, got %d", static_cast<int>(d.plane));
   if (!positive_finite(d.thickness)) return fail("thickness: must be positive and finite (m), got %g", d.thickness);
@@ -656,13 +668,19 @@ inline double nodal(const PlateModel& m, const double* f, bool displacement, int
   return dof >= 0 ? f[dof] : (displacement ? m.node_held[k] : 0.0);
 }
 
+/// The cell (i, j) holding (x, y) and the parent coordinates there; false for
+/// an unbuilt model or a point outside the domain.
+bool locate(const PlateModel& m, double x, double y, int& i, int& j, double& xi, double& eta) {
+  const PlateDesc& d = m.desc;
+  return m.built && locate_axis(d.min[0], d.max[0], d.cells[0], x, i, xi) &&
+         locate_axis(d.min[1], d.max[1], d.cells[1], y, j, eta);
+}
+
 double field_at(const PlateModel& m, const std::vector<double>& f, bool displacement, double x, double y, int c) {
   const PlateDesc& d = m.desc;
   int i = 0, j = 0;
   double xi = 0.0, eta = 0.0;
-  if (!m.built || c < 0 || c > 1 || !locate_axis(d.min[0], d.max[0], d.cells[0], x, i, xi) ||
-      !locate_axis(d.min[1], d.max[1], d.cells[1], y, j, eta))
-    return std::numeric_limits<double>::quiet_NaN();
+  if (c < 0 || c > 1 || !locate(m, x, y, i, j, xi, eta)) return std::numeric_limits<double>::quiet_NaN();
   int en[4];
   cell_nodes(d.cells[0], i, j, en);
   double s = 0.0;
@@ -699,12 +717,9 @@ double plate_acceleration(const PlateModel& m, const PlateState& s, double x, do
 }
 
 double plate_stress(const PlateModel& m, const PlateState& s, double x, double y, int component) {
-  const PlateDesc& d = m.desc;
   int i = 0, j = 0;
   double xi = 0.0, eta = 0.0;
-  if (!m.built || component < 0 || component > 2 || !locate_axis(d.min[0], d.max[0], d.cells[0], x, i, xi) ||
-      !locate_axis(d.min[1], d.max[1], d.cells[1], y, j, eta))
-    return std::numeric_limits<double>::quiet_NaN();
+  if (component < 0 || component > 2 || !locate(m, x, y, i, j, xi, eta)) return std::numeric_limits<double>::quiet_NaN();
   double eps[3];
   strain_at(m, s.u.data(), i, j, xi, eta, eps);
   const double(&dm)[3][3] = m.elasticity;
