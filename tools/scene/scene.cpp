@@ -1,6 +1,7 @@
 #include "scene/scene.hpp"
 
 #include "scene/continuum_json.hpp"
+#include "scene/plate_json.hpp"
 #include "xfdem/platform/memory.hpp"
 
 #include <cmath>
@@ -189,7 +190,9 @@ Scene parse_scene(const Json& document) {
   scene.dimension = static_cast<int>(top.integer("dimension", 1, 3));
   scene.gravity = top.has("gravity") ? top.vector("gravity", static_cast<std::size_t>(scene.dimension))
                                      : std::vector<double>(static_cast<std::size_t>(scene.dimension), 0.0);
-  {
+  // A static plate needs no time: one row at t = 0 (steps stays 0).
+  const bool static_plate = is_static_plate(document);
+  if (!static_plate || top.has("time")) {
     ObjectReader time = top.object("time");
     scene.end = time.real("end", kPositive);
     scene.dt = time.real("dt", kPositive);
@@ -199,6 +202,7 @@ Scene parse_scene(const Json& document) {
     if (scene.steps < 1) time.fail("end", "must be a whole multiple of time.dt");
     if (scene.steps > 4'000'000'000LL) time.fail("end", "needs more than 4e9 steps");
   }
+  if (static_plate) scene.steps = 0;
   if (top.has("energy_check")) {
     ObjectReader check = top.object("energy_check");
     scene.energy_check.interval =
@@ -207,7 +211,17 @@ Scene parse_scene(const Json& document) {
     check.finish();
   }
   scene.has_continuum = top.has("continuum");
-  if (scene.has_continuum) {
+  const bool plate = scene.has_continuum && document.at("continuum").is_object() &&
+                     document.at("continuum").contains("type") && document.at("continuum").at("type") == "plate";
+  if (plate) {
+    if (scene.dimension != 2) throw SceneError("scene key 'dimension': a plate scene must have dimension 2");
+    if (top.has("dem"))
+      throw SceneError("scene key 'dem': particles together with a plate are not supported yet (this build runs a "
+                       "plate alone)");
+    ObjectReader continuum = top.object("continuum");
+    scene.plate = parse_plate(continuum, scene.dt, scene.gravity);
+    scene.plate->energy_check = scene.energy_check;
+  } else if (scene.has_continuum) {
     if (scene.dimension != 1)
       throw SceneError("scene key 'dimension': a continuum (bar) scene must have dimension 1");
     ObjectReader continuum = top.object("continuum");
@@ -247,9 +261,13 @@ Scene parse_scene(const Json& document) {
   };
 
   ObjectReader output = top.object("output");
-  const double every = output.real("every", kPositive);
-  scene.output_stride = whole_multiple(every, scene.dt);
-  if (scene.output_stride < 1) output.fail("every", "must be a whole multiple of time.dt");
+  if (static_plate) {
+    if (output.has("every")) output.real("every", kPositive);  // one row at t = 0 either way
+  } else {
+    const double every = output.real("every", kPositive);
+    scene.output_stride = whole_multiple(every, scene.dt);
+    if (scene.output_stride < 1) output.fail("every", "must be a whole multiple of time.dt");
+  }
   std::map<std::string, std::string> probe_names;
   for (const auto& [value, path] : output.array("probes")) {
     ObjectReader p(*value, path);
@@ -259,6 +277,12 @@ Scene parse_scene(const Json& document) {
       p.fail("name", "'" + probe.name + "' cannot be a CSV column name");
     if (probe_names.count(probe.name)) p.fail("name", "'" + probe.name + "' is also the name of " + probe_names[probe.name]);
     probe_names[probe.name] = path;
+    if (scene.plate) {
+      parse_plate_probe(p, *scene.plate, probe);
+      p.finish();
+      scene.probes.push_back(probe);
+      continue;
+    }
     const std::string quantity = p.choice("quantity", {"position", "velocity", "displacement", "contact_force",
                                                        "interface_gap", "energy"});
     if (quantity == "energy") {

@@ -11,6 +11,7 @@
 #include "xfdem/bar.hpp"
 #include "xfdem/coupled.hpp"
 #include "xfdem/dem.hpp"
+#include "xfdem/plate.hpp"
 
 namespace xfdem::scene {
 
@@ -30,6 +31,13 @@ struct Probe {
     energy_kinetic,
     energy_elastic,
     energy_potential,
+    // The plate (scenes-2d.md): fields at `at`, stress component 0 xx, 1 yy, 2 xy.
+    plate_displacement,
+    plate_velocity,
+    plate_acceleration,
+    plate_stress,
+    momentum_continuum,
+    momentum_particles,
   };
   std::string name;
   Kind kind = Kind::energy_total;
@@ -37,6 +45,7 @@ struct Probe {
   int other = -1;      ///< second particle or plane index
   int component = 0;   ///< axis for position and velocity
   double bar_at = 0;   ///< coordinate along the bar (m)
+  double at[2] = {0, 0};  ///< point of the plate (m)
 };
 
 struct Scene {
@@ -55,6 +64,8 @@ struct Scene {
   bool has_continuum = false;
   /// The continuum (a bar: 1D only).
   std::optional<BarDesc> bar;
+  /// The 2D continuum (a plate alone: dimension 2, no particles yet).
+  std::optional<PlateDesc> plate;
   std::vector<Probe> probes;
   /// The steppers' energy balance check (key `energy_check`, optional).
   EnergyCheck energy_check;

@@ -15,10 +15,17 @@ struct BarWorld {
   StepStatus step() { return bar_step(model, state, workspace); }
 };
 
+struct PlateWorld {
+  PlateModel model;
+  PlateState state;
+  PlateWorkspace workspace;
+  StepStatus step() { return plate_step(model, state, workspace); }
+};
+
 }  // namespace
 
 struct SceneWorld::Impl {
-  std::variant<DemWorld<1>, DemWorld<2>, DemWorld<3>, BarWorld, CoupledWorld> world;
+  std::variant<DemWorld<1>, DemWorld<2>, DemWorld<3>, BarWorld, CoupledWorld, PlateWorld> world;
 
   template <class F>
   auto with_state(F&& f) {
@@ -44,6 +51,10 @@ SceneWorld::SceneWorld(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   } else if (scene.bar) {
     auto& w = world.emplace<BarWorld>();
     if (const BuildResult built = build_bar(*scene.bar, w.model, w.state, w.workspace); !built.ok())
+      throw build_refusal(scene, Built::continuum, built);
+  } else if (scene.plate) {
+    auto& w = world.emplace<PlateWorld>();
+    if (const BuildResult built = build_plate(*scene.plate, w.model, w.state, w.workspace); !built.ok())
       throw build_refusal(scene, Built::continuum, built);
   } else {
     throw SceneError("scene: nothing to run");

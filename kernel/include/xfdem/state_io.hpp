@@ -18,6 +18,7 @@
 #include <span>
 
 #include "xfdem/bar.hpp"
+#include "xfdem/plate.hpp"
 #include "xfdem/coupled.hpp"
 #include "xfdem/dem.hpp"
 
@@ -51,6 +52,10 @@ void for_each_field(DemState<D>& state, Visitor&& visit) {
 }
 template <class Visitor>
 void for_each_field(BarState& state, Visitor&& visit) {
+  state.for_each_field([&](const char* name, auto* data, std::size_t count) { visit("", name, data, count); });
+}
+template <class Visitor>
+void for_each_field(PlateState& state, Visitor&& visit) {
   state.for_each_field([&](const char* name, auto* data, std::size_t count) { visit("", name, data, count); });
 }
 /// The particles ("dem"), then the bar ("bar"), then the coupling's own scalars.
@@ -90,12 +95,14 @@ std::uint64_t state_hash(const DemState<1>& state) noexcept;
 std::uint64_t state_hash(const DemState<2>& state) noexcept;
 std::uint64_t state_hash(const DemState<3>& state) noexcept;
 std::uint64_t state_hash(const BarState& state) noexcept;
+std::uint64_t state_hash(const PlateState& state) noexcept;
 std::uint64_t state_hash(const CoupledState& state) noexcept;
 
 std::uint64_t layout_hash(const DemState<1>& state) noexcept;
 std::uint64_t layout_hash(const DemState<2>& state) noexcept;
 std::uint64_t layout_hash(const DemState<3>& state) noexcept;
 std::uint64_t layout_hash(const BarState& state) noexcept;
+std::uint64_t layout_hash(const PlateState& state) noexcept;
 std::uint64_t layout_hash(const CoupledState& state) noexcept;
 
 /// Number of fields the visitor lists.
@@ -103,6 +110,7 @@ std::size_t field_count(const DemState<1>& state) noexcept;
 std::size_t field_count(const DemState<2>& state) noexcept;
 std::size_t field_count(const DemState<3>& state) noexcept;
 std::size_t field_count(const BarState& state) noexcept;
+std::size_t field_count(const PlateState& state) noexcept;
 std::size_t field_count(const CoupledState& state) noexcept;
 
 /// Writes the hash of field k to out[k] for k < min(out.size(), field_count);
@@ -111,6 +119,7 @@ std::size_t field_hashes(const DemState<1>& state, std::span<std::uint64_t> out)
 std::size_t field_hashes(const DemState<2>& state, std::span<std::uint64_t> out) noexcept;
 std::size_t field_hashes(const DemState<3>& state, std::span<std::uint64_t> out) noexcept;
 std::size_t field_hashes(const BarState& state, std::span<std::uint64_t> out) noexcept;
+std::size_t field_hashes(const PlateState& state, std::span<std::uint64_t> out) noexcept;
 std::size_t field_hashes(const CoupledState& state, std::span<std::uint64_t> out) noexcept;
 
 /// Writes the readable name of field k into `buffer` (always NUL-terminated):
@@ -121,6 +130,7 @@ const char* field_name(const DemState<1>& state, std::size_t k, char* buffer, in
 const char* field_name(const DemState<2>& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 const char* field_name(const DemState<3>& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 const char* field_name(const BarState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
+const char* field_name(const PlateState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 const char* field_name(const CoupledState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 
 /// A hash of what a model is (properties, features, dt, capacities): pass it as
@@ -131,6 +141,7 @@ std::uint64_t model_fingerprint(const DemModel<1>& model) noexcept;
 std::uint64_t model_fingerprint(const DemModel<2>& model) noexcept;
 std::uint64_t model_fingerprint(const DemModel<3>& model) noexcept;
 std::uint64_t model_fingerprint(const BarModel& model) noexcept;
+std::uint64_t model_fingerprint(const PlateModel& model) noexcept;
 std::uint64_t model_fingerprint(const CoupledModel& model) noexcept;
 
 // ---- snapshots -------------------------------------------------------------------
@@ -154,7 +165,7 @@ std::uint64_t model_fingerprint(const CoupledModel& model) noexcept;
 inline constexpr std::uint32_t kSnapshotVersion = 2;  // 2: the energy ledgers
 inline constexpr std::size_t kSnapshotHeaderBytes = 64;
 
-enum class SnapshotKind : std::uint8_t { dem1 = 1, dem2 = 2, dem3 = 3, bar = 4, coupled = 5 };
+enum class SnapshotKind : std::uint8_t { dem1 = 1, dem2 = 2, dem3 = 3, bar = 4, coupled = 5, plate = 6 };
 
 enum class SnapshotStatus : std::uint8_t {
   ok,
@@ -187,6 +198,7 @@ std::size_t snapshot_size(const DemState<1>& state) noexcept;
 std::size_t snapshot_size(const DemState<2>& state) noexcept;
 std::size_t snapshot_size(const DemState<3>& state) noexcept;
 std::size_t snapshot_size(const BarState& state) noexcept;
+std::size_t snapshot_size(const PlateState& state) noexcept;
 std::size_t snapshot_size(const CoupledState& state) noexcept;
 
 /// Writes a snapshot into the first snapshot_size(state) bytes of `buffer`.
@@ -195,6 +207,7 @@ SnapshotResult save_snapshot(const DemState<1>& state, std::span<std::byte> buff
 SnapshotResult save_snapshot(const DemState<2>& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult save_snapshot(const DemState<3>& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult save_snapshot(const BarState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
+SnapshotResult save_snapshot(const PlateState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult save_snapshot(const CoupledState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 
 /// Restores a snapshot into `state`, which must have been built by the same
@@ -206,6 +219,7 @@ SnapshotResult restore_snapshot(DemState<1>& state, std::span<const std::byte> b
 SnapshotResult restore_snapshot(DemState<2>& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult restore_snapshot(DemState<3>& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult restore_snapshot(BarState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
+SnapshotResult restore_snapshot(PlateState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult restore_snapshot(CoupledState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 
 // ---- file helpers (tools only: these allocate a buffer and touch the file system) --
@@ -214,12 +228,14 @@ SnapshotResult save_snapshot_file(const char* path, const DemState<1>& state, st
 SnapshotResult save_snapshot_file(const char* path, const DemState<2>& state, std::uint64_t model_tag = 0);
 SnapshotResult save_snapshot_file(const char* path, const DemState<3>& state, std::uint64_t model_tag = 0);
 SnapshotResult save_snapshot_file(const char* path, const BarState& state, std::uint64_t model_tag = 0);
+SnapshotResult save_snapshot_file(const char* path, const PlateState& state, std::uint64_t model_tag = 0);
 SnapshotResult save_snapshot_file(const char* path, const CoupledState& state, std::uint64_t model_tag = 0);
 
 SnapshotResult restore_snapshot_file(const char* path, DemState<1>& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, DemState<2>& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, DemState<3>& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, BarState& state, std::uint64_t model_tag = 0);
+SnapshotResult restore_snapshot_file(const char* path, PlateState& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, CoupledState& state, std::uint64_t model_tag = 0);
 
 }  // namespace xfdem

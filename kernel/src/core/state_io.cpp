@@ -216,6 +216,7 @@ const char* kind_name(std::uint8_t kind) noexcept {
     case 3: return "DemState<3>";
     case 4: return "BarState";
     case 5: return "CoupledState";
+    case 6: return "PlateState";
     default: return "unknown";
   }
 }
@@ -232,6 +233,8 @@ template <>
 constexpr SnapshotKind kind_of<BarState>() noexcept { return SnapshotKind::bar; }
 template <>
 constexpr SnapshotKind kind_of<CoupledState>() noexcept { return SnapshotKind::coupled; }
+template <>
+constexpr SnapshotKind kind_of<PlateState>() noexcept { return SnapshotKind::plate; }
 
 SnapshotResult result(SnapshotStatus status, std::size_t bytes, const char* format, ...)
     __attribute__((format(printf, 3, 4)));
@@ -479,6 +482,28 @@ std::uint64_t model_fingerprint(const BarModel& model) noexcept {
   return h;
 }
 
+std::uint64_t model_fingerprint(const PlateModel& model) noexcept {
+  const PlateDesc& d = model.desc;
+  std::uint64_t h = mix_u64(kFnvOffset, 0x504cu);  // "PL"
+  for (double v : {d.min[0], d.min[1], d.max[0], d.max[1], d.thickness, d.youngs_modulus, d.poisson_ratio, d.density,
+                   d.gravity[0], d.gravity[1], d.beta, d.gamma, d.dt})
+    h = mix_double(h, v);
+  for (int v : {d.cells[0], d.cells[1], static_cast<int>(d.plane), static_cast<int>(d.analysis),
+                static_cast<int>(d.self_weight), model.dofs})
+    h = mix_u64(h, static_cast<std::uint64_t>(v));
+  for (const PlateSupport& s : d.supports)
+    h = mix_u64(h, static_cast<std::uint64_t>(s.edge) | (s.fix[0] ? 16u : 0u) | (s.fix[1] ? 32u : 0u) |
+                       (s.absorbing ? 64u : 0u));
+  for (const PlatePrescribed& p : d.prescribed)
+    for (double v : {p.at[0], p.at[1], p.displacement[0], p.displacement[1]}) h = mix_double(h, v);
+  for (const PlateLoad& l : d.loads) {
+    h = mix_u64(h, static_cast<std::uint64_t>(l.kind) | (static_cast<std::uint64_t>(l.edge) << 4) |
+                       (static_cast<std::uint64_t>(l.shape) << 8));
+    for (double v : {l.at[0], l.at[1], l.value[0], l.value[1], l.duration}) h = mix_double(h, v);
+  }
+  return h;
+}
+
 std::uint64_t model_fingerprint(const CoupledModel& model) noexcept {
   std::uint64_t h = mix_u64(kFnvOffset, 0x4350u);  // "CP"
   h = mix_u64(h, dem_fingerprint(model.dem));
@@ -523,6 +548,7 @@ XFDEM_STATE_IO_OVERLOADS(DemState<2>)
 XFDEM_STATE_IO_OVERLOADS(DemState<3>)
 XFDEM_STATE_IO_OVERLOADS(BarState)
 XFDEM_STATE_IO_OVERLOADS(CoupledState)
+XFDEM_STATE_IO_OVERLOADS(PlateState)
 
 #undef XFDEM_STATE_IO_OVERLOADS
 

@@ -1,0 +1,225 @@
+// The 2D continuum: an elastic plate (a plane-strain or plane-stress slice of
+// thickness t) on a rectangle, meshed with a structured grid of bilinear quads
+// (Q4), consistent mass, integrated in time with Newmark GN22 through the same
+// xfem::newmark_step() and profile LDLᵀ as the bar, or solved once (static).
+// docs/xfem2d.md gives the formulation. This slice is the uncut plate: no
+// cracks, inclusions, voids or enrichment yet.
+//
+// Model / state / workspace split as the bar's: build_plate() validates a
+// PlateDesc and is the only call that allocates; plate_step() advances the
+// PlateState in place and never allocates, throws, locks or reads a clock.
+//
+// Units: SI (m, s, kg, N, Pa). Forces and masses are those of the slice of
+// thickness `thickness` (a plane-strain scene's "per metre" with thickness 1).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "xfdem/energy_check.hpp"
+#include "xfdem/status.hpp"
+#include "xfdem/xfem/banded.hpp"
+#include "xfdem/xfem/newmark.hpp"
+
+namespace xfdem {
+
+enum class PlateEdge : std::uint8_t { left, right, bottom, top };
+
+/// Time shape of a load, as the bar's tip load: none (no load), step (the
+/// amplitude for t ≥ 0), half_sine (amplitude · sin(π t / duration) for
+/// t ≤ duration, then 0).
+enum class PlateLoadShape : std::uint8_t { none, step, half_sine };
+
+/// Supports of one edge: the fixed components are held at zero on every node
+/// of the edge (corners included). `absorbing` puts Lysmer dashpots on the edge's
+/// free components: ρ c_p on the normal one, ρ c_s on the tangential one, per
+/// unit area of the edge, lumped to its nodes (each gets its share of the
+/// edge's length times the thickness).
+struct PlateSupport {
+  PlateEdge edge = PlateEdge::left;
+  bool fix[2] = {false, false};  ///< x, y
+  bool absorbing = false;
+};
+
+/// Both components of the node at `at` (within 1e-9 of a cell of one) held at
+/// `displacement` for the whole run.
+struct PlatePrescribed {
+  double at[2] = {0, 0};
+  double displacement[2] = {0, 0};
+};
+
+/// An edge traction (Pa, consistent nodal forces: each edge segment gives each
+/// of its two nodes half its length × thickness × traction) or a point force
+/// (N, spread to the nodes of the cell holding `at` by the shape functions
+/// there). Components on constrained nodal components go to the reactions.
+struct PlateLoad {
+  enum class Kind : std::uint8_t { edge_traction, point_force };
+  Kind kind = Kind::edge_traction;
+  PlateEdge edge = PlateEdge::right;  ///< edge_traction
+  double at[2] = {0, 0};              ///< point_force
+  double value[2] = {0, 0};           ///< traction (Pa) or force (N), x and y
+  PlateLoadShape shape = PlateLoadShape::step;
+  double duration = 0.0;              ///< s, half_sine only (0 otherwise)
+};
+
+struct PlateDesc {
+  enum class Plane : std::uint8_t { strain, stress };
+  enum class Analysis : std::uint8_t {
+    dynamic,  ///< Newmark GN22 from rest at t = 0
+    statics,  ///< one solve K u = f with every load at its amplitude (shape step; half_sine refused)
+  };
+  double min[2] = {0, 0};  ///< lower-left corner of the domain, m
+  double max[2] = {0, 0};  ///< upper-right corner, m
+  int cells[2] = {0, 0};   ///< nx, ny
+  Plane plane = Plane::strain;
+  double thickness = 1.0;       ///< m
+  double youngs_modulus = 0.0;  ///< E, Pa
+  double poisson_ratio = 0.0;   ///< ν: (−1, 1/2) in plane strain, (−1, 1/2] in plane stress
+  double density = 0.0;         ///< ρ, kg/m³
+  bool self_weight = false;     ///< body force ρ g on the plate
+  double gravity[2] = {0, 0};   ///< m/s² (self_weight only)
+  Analysis analysis = Analysis::dynamic;
+  double beta = 0.25;  ///< Newmark β; γ ≥ 1/2, β ≥ (γ + 1/2)²/4 (dynamic only)
+  double gamma = 0.5;  ///< Newmark γ
+  double dt = 0.0;     ///< s (dynamic only)
+  std::vector<PlateSupport> supports;
+  std::vector<PlatePrescribed> prescribed;
+  std::vector<PlateLoad> loads;
+  /// The energy balance check of plate_step(): Ê ≤ Ê0 + W (see PlateState::energy).
+  EnergyCheck energy_check;
+  /// Upper bound on the number of unknowns; 0 sizes everything to the mesh.
+  int max_dofs = 0;
+};
+
+/// Everything build_plate() derives from a PlateDesc. Immutable after build.
+struct PlateModel {
+  PlateDesc desc;
+  bool built = false;
+  int nodes = 0;              ///< (nx + 1)(ny + 1), natural index n = j (nx + 1) + i
+  int dofs = 0;               ///< free nodal components
+  double cell_size[2] = {0, 0};
+  double elasticity[3][3] = {};  ///< D: σ = D ε, ε = (ε_xx, ε_yy, γ_xy)
+  double wave_speed[2] = {0, 0};  ///< c_p, c_s, m/s
+  /// Unknown of natural node n's component c at [2n + c]; −1 when held
+  /// (then node_held[2n + c] is its displacement).
+  std::vector<int> node_dof;
+  std::vector<double> node_held;
+  std::vector<double> node_mass;  ///< ρ t ∫ N_n dA, kg: column sums of the full consistent mass
+  /// The loads, flattened: entry e adds load_value[e]·shape_{load_of[e]}(t) to unknown load_dof[e].
+  std::vector<int> load_dof, load_of;
+  std::vector<double> load_value;
+  /// Lumped dashpots of absorbing edges: damper_coeff[d] (N·s/m) on unknown damper_dof[d].
+  std::vector<int> damper_dof;
+  std::vector<double> damper_coeff;
+  /// −K_fh g: what the held displacements push on the unknowns (constant).
+  std::vector<double> held_force;
+  xfem::SymmetricBand mass;       ///< M on the unknowns
+  xfem::SymmetricBand stiffness;  ///< K on the unknowns
+  std::vector<double> mass_row_sums;  ///< M·1 (the net force 1ᵀMa the integrator sums)
+  xfem::NewmarkScheme scheme;
+  xfem::BandLdlt mass_factor;       ///< M (initial acceleration), dynamic
+  xfem::BandLdlt effective_factor;  ///< M + γΔt C + βΔt² K, dynamic
+  xfem::BandLdlt stiffness_factor;  ///< K, static
+  /// The 8×8 element stiffness and mass (all cells of the structured grid are
+  /// the same rectangle), row-major, unknowns (x0, y0, x1, y1, x2, y2, x3, y3)
+  /// with nodes counter-clockwise from the lower left.
+  double element_stiffness[64] = {};
+  double element_mass[64] = {};
+};
+
+/// Everything a step changes. Plain data: copy it to snapshot, hash it through
+/// for_each_field().
+struct PlateState {
+  std::vector<double> u;  ///< unknowns: free nodal displacements, m
+  std::vector<double> v;  ///< m/s
+  std::vector<double> a;  ///< m/s²
+  double time = 0.0;      ///< s, = step · dt
+  std::int64_t step = 0;
+  /// The energy balance check's books, in Ê = ½vᵀMv + ½uᵀKu (all nodes) +
+  /// ½Δt²(β − γ/2)aᵀMa; W is the work of the loads (self weight included) and
+  /// of the dashpots, with the scheme's weights.
+  EnergyLedger energy;
+
+  template <class Visitor>
+  void for_each_field(Visitor&& visitor) {
+    visit_fields(*this, visitor);
+  }
+  template <class Visitor>
+  void for_each_field(Visitor&& visitor) const {
+    visit_fields(*this, visitor);
+  }
+
+ private:
+  template <class Self, class Visitor>
+  static void visit_fields(Self& self, Visitor& visitor) {
+    visitor("u", self.u.data(), self.u.size());
+    visitor("v", self.v.data(), self.v.size());
+    visitor("a", self.a.data(), self.a.size());
+    visitor("time", &self.time, std::size_t{1});
+    visitor("step", &self.step, std::size_t{1});
+    visitor("energy_reference", &self.energy.reference, std::size_t{1});
+    visitor("energy_work", &self.energy.work, std::size_t{1});
+    visitor("energy_peak", &self.energy.peak, std::size_t{1});
+    visitor("energy_exceeded", &self.energy.exceeded, std::size_t{1});
+  }
+};
+
+/// Scratch of a step, sized at build.
+struct PlateWorkspace {
+  std::vector<double> u_pred, v_pred, rhs;
+  std::vector<double> shape_start, shape_end;       ///< each load's shape at t_n and t_{n+1}
+  std::vector<double> load_u_start;                 ///< u at each load entry's unknown, at t_n
+  std::vector<double> damper_u_start, damper_v_start;
+  /// Σ h[(1 − γ) 1ᵀMa_n + γ 1ᵀMa_{n+1}] of the last step (free unknowns).
+  double last_external_impulse = 0.0;
+};
+
+/// Validates every field (the message starts with the field's name as in the
+/// scene file's continuum block, e.g. "material.poisson_ratio: ..."). No allocation.
+BuildResult validate_plate(const PlateDesc& desc);
+
+/// Validates, meshes, assembles, factors. Dynamic: the state is at rest at
+/// t = 0 (held nodes at their displacement) with a_0 from M a_0 = f(0) − K u_0.
+/// Static: the state holds the solution of K u = f (v = a = 0). On failure the
+/// model is not built and plate_step() returns StepStatus::not_built.
+BuildResult build_plate(const PlateDesc& desc, PlateModel& model, PlateState& state, PlateWorkspace& workspace);
+
+/// Advances one step of dt, loads at t_{n+1} = (step + 1)·dt. Returns ok,
+/// energy_growth, non_finite (step taken) or not_built (nothing done; also for
+/// a static model, which has nothing to step).
+StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace& workspace);
+
+/// Recomputes state.a from M a = f(t) − C v − K u at state.time and restarts the
+/// energy books: call after editing u or v. No allocation.
+StepStatus plate_initial_acceleration(const PlateModel& model, PlateState& state, PlateWorkspace& workspace);
+
+/// The time shape of load `load` at t (1 for self weight, load index −1).
+double plate_load_shape(const PlateModel& model, int load, double t);
+
+/// Field values at a point of the domain (within 1e-9 of a cell of its edges;
+/// NaN outside), by the shape functions of the cell holding it (on a cell edge:
+/// the cell with the smaller index). component 0: x, 1: y.
+double plate_displacement(const PlateModel& model, const PlateState& state, double x, double y, int component);
+double plate_velocity(const PlateModel& model, const PlateState& state, double x, double y, int component);
+double plate_acceleration(const PlateModel& model, const PlateState& state, double x, double y, int component);
+/// Stress at a point, Pa: component 0 σ_xx, 1 σ_yy, 2 σ_xy (same cell rule).
+double plate_stress(const PlateModel& model, const PlateState& state, double x, double y, int component);
+
+struct PlateEnergy {
+  double kinetic = 0.0;    ///< ½ vᵀMv, J
+  double elastic = 0.0;    ///< ½ uᵀKu over all nodes (held ones at their displacement), J
+  double potential = 0.0;  ///< −∫ ρ g·u dV (self weight; datum: the undeformed plate), J
+};
+PlateEnergy plate_energy(const PlateModel& model, const PlateState& state);
+/// Ê of the energy check: kinetic + elastic + ½Δt²(β − γ/2)aᵀMa, J (self
+/// weight is booked as work, W, not as potential).
+double plate_algorithmic_energy(const PlateModel& model, const PlateState& state);
+/// ∫ ρ v_c dV (component c), kg·m/s.
+double plate_momentum(const PlateModel& model, const PlateState& state, int component);
+
+/// Q4 element matrices of a rectangle hx × hy (2×2 Gauss, exact for it):
+/// stiffness t∫BᵀDB and consistent mass ρt∫NᵀN, 8×8 row-major, unknowns
+/// (x0, y0, …, x3, y3), nodes counter-clockwise from the lower left.
+void plate_element_matrices(double hx, double hy, const double elasticity[3][3], double thickness, double density,
+                            double stiffness[64], double mass[64]);
+
+}  // namespace xfdem

@@ -1,0 +1,141 @@
+// The plate through the command line (scenes-2d.md, "The 2D continuum: a
+// plate"): static and dynamic runs, the same bytes on one and two workers,
+// and the keys of later slices and bad plate input refused with the key named.
+#include <gtest/gtest.h>
+
+#include "support/command.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using xfdem::testing::slurp;
+using Result = xfdem::testing::CommandResult;
+
+fs::path scratch() { return xfdem::testing::scratch("plate_cli_test"); }
+Result run(const std::string& args) { return xfdem::testing::run_command(XFDEM_CLI, args); }
+std::string tension() { return xfdem::testing::scene_file("plate_tension.json"); }
+
+std::vector<std::string> lines(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+std::vector<double> values(const std::string& row) {
+  std::vector<double> out;
+  std::stringstream s(row);
+  for (std::string cell; std::getline(s, cell, ',');) out.push_back(std::stod(cell));
+  return out;
+}
+
+}  // namespace
+
+// Static: one row at t = 0 with the closed form of uniaxial tension in plane
+// stress (u = σ0 L / E at the loaded edge, σ_xx = σ0, σ_yy = σ_xy = 0).
+TEST(PlateCli, StaticAnalysisWritesOneRowAtTimeZero) {
+  const fs::path csv = scratch() / "static.csv";
+  const Result r = run("run " + tension() + " --set continuum.analysis=static --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(csv);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0], "t,u_tip,v_tip,a_tip,uy_top,sxx_mid,syy_mid,sxy_mid,E_total,E_kinetic,E_elastic,p_x");
+  const auto v = values(rows[1]);
+  ASSERT_EQ(v.size(), 12u);
+  EXPECT_EQ(v[0], 0.0);
+  const double sigma0 = 1e6, e = 2e11, nu = 0.3;
+  EXPECT_NEAR(v[1], sigma0 * 2.0 / e, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[4], -nu * sigma0 * 1.0 / e, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[5], sigma0, 256 * 2.2e-16 * sigma0);
+  EXPECT_NEAR(v[6], 0.0, 256 * 2.2e-16 * sigma0);
+  EXPECT_NEAR(v[7], 0.0, 256 * 2.2e-16 * sigma0);
+  EXPECT_EQ(v[2], 0.0);
+  EXPECT_EQ(v[3], 0.0);
+}
+
+// A static scene needs neither a time block nor output.every.
+TEST(PlateCli, StaticSceneNeedsNoTimeBlock) {
+  std::string text = slurp(tension());
+  const auto time = text.find("\"time\"");
+  text.erase(time, text.find('\n', time) - time + 1);
+  const auto every = text.find("\"every\"");
+  text.erase(every, text.find('\n', every) - every + 1);
+  const auto dyn = text.find("\"dynamic\"");
+  text.replace(dyn, 9, "\"static\"");
+  const fs::path scene = scratch() / "static_plate.json";
+  std::ofstream(scene) << text;
+  const fs::path csv = scratch() / "static_no_time.csv";
+  const Result r = run("run " + scene.string() + " --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lines(csv).size(), 2u);
+}
+
+TEST(PlateCli, DynamicRunIsTheSameOnOneAndTwoWorkers) {
+  const fs::path a = scratch() / "one.csv", b = scratch() / "two.csv";
+  ASSERT_EQ(run("run " + tension() + " --csv " + a.string()).exit_code, 0);
+  ASSERT_EQ(run("run " + tension() + " --threads 2 --csv " + b.string()).exit_code, 0);
+  EXPECT_EQ(slurp(a), slurp(b));
+  const auto rows = lines(a);
+  EXPECT_EQ(rows.size(), 202u);  // header + t = 0, 1e-5, ..., 2e-3
+  // The traction's impulse: p_x = σ0 · (height · thickness) · t exactly for
+  // the trapezoidal rule (the held left edge pushes back only once the wave
+  // reaches it: after 2 m / c_p ≈ 3.8e-4 s, so compare before).
+  const auto v = values(rows[11]);  // t = 1e-4
+  EXPECT_NEAR(v[11], 1e6 * 0.02 * 1e-4, 1e-9 * 2.0);
+}
+
+struct PlateBadInput {
+  const char* args;
+  const char* must_mention;
+};
+
+class PlateCliRejects : public ::testing::TestWithParam<PlateBadInput> {};
+
+TEST_P(PlateCliRejects, WithTheKeyNamedAndNoOutput) {
+  const fs::path csv = scratch() / "never.csv";
+  fs::remove(csv);
+  const Result r = run("run " + tension() + " " + GetParam().args + " --csv " + csv.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find(GetParam().must_mention), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BadValues, PlateCliRejects,
+    ::testing::Values(
+        PlateBadInput{"--set continuum.discontinuities=[]", "scene key 'continuum.discontinuities': not supported yet"},
+        PlateBadInput{"--set continuum.tip_enrichment.radius=0", "scene key 'continuum.tip_enrichment': not supported yet"},
+        PlateBadInput{"--set 'dem={\"particles\":[]}'",
+                      "scene key 'dem': particles together with a plate are not supported yet"},
+        PlateBadInput{"--set dimension=1 --set gravity=[0]", "scene key 'dimension': a plate scene must have dimension 2"},
+        PlateBadInput{"--set continuum.plane=strain --set continuum.material.poisson_ratio=0.5",
+                      "scene key 'continuum.material.poisson_ratio': must be < 0.5 in plane strain"},
+        PlateBadInput{"--set continuum.cells=[0,3]", "scene key 'continuum.cells': each count must be in [1, 100000]"},
+        PlateBadInput{"--set continuum.cells=[3000,3000]",
+                      "scene key 'continuum.cells': 3000 x 3000 needs about 1.08e+11 stored entries per matrix"},
+        PlateBadInput{"--set 'continuum.prescribed=[{\"at\":[0.05,0],\"displacement\":[0,0]}]'",
+                      "scene key 'continuum.prescribed.0.at': (0.05, 0) is not a node of the mesh"},
+        PlateBadInput{"--set 'continuum.prescribed=[{\"at\":[0,0.5],\"displacement\":[1e-3,0]}]'",
+                      "scene key 'continuum.prescribed.0.displacement': the node at (0, 0.5) is held at 0 in x"},
+        PlateBadInput{"--set continuum.supports=[] --set continuum.analysis=static",
+                      "scene key 'continuum.supports': the plate is not held against rigid motion"},
+        PlateBadInput{"--set continuum.analysis=static --set continuum.loads.0.shape=half_sine "
+                      "--set continuum.loads.0.duration=1",
+                      "scene key 'continuum.loads.0.shape': a static analysis has no time"},
+        PlateBadInput{"--set continuum.supports.0.edge=middle",
+                      "scene key 'continuum.supports.0.edge': 'middle' is not one of"},
+        PlateBadInput{"--set continuum.supports.0.fix=[\\\"z\\\"]",
+                      "scene key 'continuum.supports.0.fix': components are \"x\" and \"y\""},
+        PlateBadInput{"--set continuum.loads.0.force=[1,0]", "scene key 'continuum.loads.0.force': an edge load takes a traction"},
+        PlateBadInput{"--set continuum.newmark.beta=0.2", "scene key 'continuum.newmark.beta': must be >= (gamma + 1/2)^2 / 4"},
+        PlateBadInput{"--set output.probes.0.at=[3,0]", "scene key 'output.probes.0.at': (3, 0) is outside the plate's domain"},
+        PlateBadInput{"--set output.probes.4.component=zz", "scene key 'output.probes.4.component': 'zz' is not one of"},
+        PlateBadInput{"--set output.probes.0.quantity=position", "scene key 'output.probes.0.quantity': 'position' is not one of"},
+        PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"}));

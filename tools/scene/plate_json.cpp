@@ -1,0 +1,212 @@
+#include "scene/plate_json.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace xfdem::scene {
+
+namespace {
+
+std::string number(double x) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", x);
+  return buffer;
+}
+
+PlateEdge read_edge(ObjectReader& r) {
+  const std::string e = r.choice("edge", {"left", "right", "bottom", "top"});
+  return e == "left" ? PlateEdge::left : e == "right" ? PlateEdge::right : e == "bottom" ? PlateEdge::bottom : PlateEdge::top;
+}
+
+void read_shape(ObjectReader& r, PlateLoad& load) {
+  const std::string shape = r.choice("shape", {"none", "step", "half_sine"});
+  load.shape = shape == "none" ? PlateLoadShape::none : shape == "step" ? PlateLoadShape::step : PlateLoadShape::half_sine;
+  if (shape == "half_sine") {
+    load.duration = r.real("duration", kPositive);
+  } else if (r.has("duration")) {
+    r.fail("duration", "not used by shape '" + shape + "'");
+  }
+}
+
+/// Inside the domain (its edges included, as the kernel's 1e-9 of a cell).
+bool inside(const PlateDesc& d, const std::vector<double>& at) {
+  for (int c = 0; c < 2; ++c) {
+    const double h = (d.max[c] - d.min[c]) / d.cells[c];
+    if (!(at[static_cast<std::size_t>(c)] >= d.min[c] - 1e-9 * h && at[static_cast<std::size_t>(c)] <= d.max[c] + 1e-9 * h))
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool is_static_plate(const Json& document) {
+  if (!document.is_object() || !document.contains("continuum")) return false;
+  const Json& c = document["continuum"];
+  return c.is_object() && c.contains("type") && c["type"] == "plate" && c.contains("analysis") &&
+         c["analysis"] == "static";
+}
+
+PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gravity) {
+  PlateDesc d;
+  c.choice("type", {"plate"});
+  for (const char* later : {"discontinuities", "tip_enrichment"})
+    if (c.has(later))
+      c.fail(later, "not supported yet: this build has the uncut plate only (cracks, inclusions, voids and their "
+                    "enrichment come later)");
+  d.plane = c.choice_or("plane", "strain", {"strain", "stress"}) == "stress" ? PlateDesc::Plane::stress
+                                                                            : PlateDesc::Plane::strain;
+  d.thickness = c.real_or("thickness", 1.0, kPositive);
+  {
+    ObjectReader domain = c.object("domain");
+    const std::vector<double> lo = domain.vector("min", 2), hi = domain.vector("max", 2);
+    for (int k = 0; k < 2; ++k) {
+      d.min[k] = lo[static_cast<std::size_t>(k)];
+      d.max[k] = hi[static_cast<std::size_t>(k)];
+      if (!(d.max[k] > d.min[k]))
+        domain.fail("max", std::string("must exceed min in ") + (k == 0 ? "x" : "y") + " (got " + number(d.max[k]) +
+                               " <= " + number(d.min[k]) + ")");
+    }
+    domain.finish();
+  }
+  {
+    const Json& cells = c.raw("cells");
+    if (!cells.is_array() || cells.size() != 2 || !cells[0].is_number_integer() || !cells[1].is_number_integer())
+      c.fail("cells", "expected two whole numbers [nx, ny]");
+    for (int k = 0; k < 2; ++k) {
+      const long long n = cells[static_cast<std::size_t>(k)].get<long long>();
+      if (n < 1 || n > 100'000) c.fail("cells", "each count must be in [1, 100000] (got " + std::to_string(n) + ")");
+      d.cells[k] = static_cast<int>(n);
+    }
+  }
+  {
+    ObjectReader m = c.object("material");
+    d.youngs_modulus = m.real("youngs_modulus", kPositive);
+    d.poisson_ratio = m.real("poisson_ratio", Range{-1.0, 0.5, true, false});
+    if (d.plane == PlateDesc::Plane::strain && d.poisson_ratio >= 0.5)
+      m.fail("poisson_ratio", "must be < 0.5 in plane strain (got " + number(d.poisson_ratio) + ")");
+    d.density = m.real("density", kPositive);
+    m.finish();
+  }
+  d.self_weight = c.boolean_or("self_weight", false);
+  if (d.self_weight)
+    for (int k = 0; k < 2; ++k) d.gravity[k] = gravity[static_cast<std::size_t>(k)];
+  d.analysis = c.choice_or("analysis", "dynamic", {"dynamic", "static"}) == "static" ? PlateDesc::Analysis::statics
+                                                                                      : PlateDesc::Analysis::dynamic;
+  if (c.has("newmark")) {
+    ObjectReader n = c.object("newmark");
+    d.gamma = n.real_or("gamma", 0.5, Range{0.5, INFINITY, false, false});
+    d.beta = n.real_or("beta", 0.25, kPositive);
+    if (!xfem::NewmarkScheme{d.beta, d.gamma, 1.0}.unconditionally_stable())
+      n.fail("beta", "must be >= (gamma + 1/2)^2 / 4 = " + number(0.25 * (d.gamma + 0.5) * (d.gamma + 0.5)) +
+                         " for gamma = " + number(d.gamma) + " (unconditional stability; got " + number(d.beta) + ")");
+    n.finish();
+  }
+  if (c.has("supports"))
+    for (const auto& [value, path] : c.array("supports")) {
+      ObjectReader s(*value, path);
+      PlateSupport sp;
+      sp.edge = read_edge(s);
+      if (s.has("fix")) {
+        const Json& fix = s.raw("fix");
+        if (!fix.is_array()) s.fail("fix", "expected a list of components, e.g. [\"x\", \"y\"]");
+        for (const Json& f : fix) {
+          if (!(f == "x" || f == "y")) s.fail("fix", "components are \"x\" and \"y\"");
+          sp.fix[f == "x" ? 0 : 1] = true;
+        }
+      }
+      sp.absorbing = s.boolean_or("absorbing", false);
+      if (sp.absorbing && d.analysis == PlateDesc::Analysis::statics)
+        s.fail("absorbing", "a static analysis has no dashpots");
+      s.finish();
+      d.supports.push_back(sp);
+    }
+  if (c.has("prescribed"))
+    for (const auto& [value, path] : c.array("prescribed")) {
+      ObjectReader p(*value, path);
+      PlatePrescribed pr;
+      const std::vector<double> at = p.vector("at", 2), u = p.vector("displacement", 2);
+      for (int k = 0; k < 2; ++k) {
+        pr.at[k] = at[static_cast<std::size_t>(k)];
+        pr.displacement[k] = u[static_cast<std::size_t>(k)];
+      }
+      p.finish();
+      d.prescribed.push_back(pr);
+    }
+  if (c.has("loads"))
+    for (const auto& [value, path] : c.array("loads")) {
+      ObjectReader l(*value, path);
+      PlateLoad load;
+      std::vector<double> v;
+      if (l.has("edge")) {
+        load.kind = PlateLoad::Kind::edge_traction;
+        load.edge = read_edge(l);
+        if (l.has("force")) l.fail("force", "an edge load takes a traction (Pa); a point load takes \"at\" and \"force\"");
+        v = l.vector("traction", 2);
+      } else if (l.has("at")) {
+        load.kind = PlateLoad::Kind::point_force;
+        const std::vector<double> at = l.vector("at", 2);
+        if (!inside(d, at)) l.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is outside the plate's domain");
+        load.at[0] = at[0], load.at[1] = at[1];
+        if (l.has("traction")) l.fail("traction", "a point load takes a force (N); an edge load takes a traction");
+        v = l.vector("force", 2);
+      } else {
+        l.fail("edge", "a load needs \"edge\" (with \"traction\") or \"at\" (with \"force\")");
+      }
+      load.value[0] = v[0], load.value[1] = v[1];
+      read_shape(l, load);
+      if (load.shape == PlateLoadShape::half_sine && d.analysis == PlateDesc::Analysis::statics)
+        l.fail("shape", "a static analysis has no time; half_sine needs \"analysis\": \"dynamic\" (use step)");
+      l.finish();
+      d.loads.push_back(load);
+    }
+  c.finish();
+  if (d.analysis == PlateDesc::Analysis::dynamic) {
+    if (!(std::isfinite(dt) && dt > 0.0)) throw SceneError("scene key 'time.dt': must be > 0 (got " + number(dt) + ")");
+    d.dt = dt;
+  }
+  // Everything above names its key; the kernel's own validation is the backstop.
+  if (const BuildResult r = validate_plate(d); !r.ok()) {
+    const std::string message = r.message;
+    const std::size_t colon = message.find(": ");
+    const std::string field = message.substr(0, colon), reason = message.substr(colon + 2);
+    const std::string key = field == "dt" ? "time.dt" : c.path() + "." + field;
+    throw SceneError("scene key '" + key + "': " + reason);
+  }
+  return d;
+}
+
+void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
+  const std::string quantity =
+      p.choice("quantity", {"displacement", "velocity", "acceleration", "stress", "energy", "momentum"});
+  if (quantity == "energy") {
+    const std::string of = p.choice("of", {"total", "kinetic", "elastic", "potential"});
+    probe.kind = of == "total"     ? Probe::Kind::energy_total
+                 : of == "kinetic" ? Probe::Kind::energy_kinetic
+                 : of == "elastic" ? Probe::Kind::energy_elastic
+                                   : Probe::Kind::energy_potential;
+    return;
+  }
+  if (quantity == "momentum") {
+    const std::string of = p.choice("of", {"total", "continuum", "particles"});
+    probe.kind = of == "particles" ? Probe::Kind::momentum_particles : Probe::Kind::momentum_continuum;
+    probe.component = static_cast<int>(p.integer("component", 0, 1));
+    return;
+  }
+  const std::vector<double> at = p.vector("at", 2);
+  if (!inside(d, at)) p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is outside the plate's domain");
+  probe.at[0] = at[0], probe.at[1] = at[1];
+  if (quantity == "stress") {
+    const std::string c = p.choice("component", {"xx", "yy", "xy"});
+    probe.kind = Probe::Kind::plate_stress;
+    probe.component = c == "xx" ? 0 : c == "yy" ? 1 : 2;
+    return;
+  }
+  probe.kind = quantity == "displacement" ? Probe::Kind::plate_displacement
+               : quantity == "velocity"   ? Probe::Kind::plate_velocity
+                                          : Probe::Kind::plate_acceleration;
+  probe.component = static_cast<int>(p.integer("component", 0, 1));
+}
+
+}  // namespace xfdem::scene
