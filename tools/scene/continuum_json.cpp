@@ -7,14 +7,6 @@
 
 namespace xfdem::scene {
 
-namespace {
-std::string number(double x) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", x);
-  return buffer;
-}
-}  // namespace
-
 BarDesc parse_continuum(ObjectReader& c, double dt) {
   BarDesc d;
   c.choice("type", {"bar"});

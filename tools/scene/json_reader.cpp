@@ -1,3 +1,4 @@
+#include <cstdio>
 #include "scene/json_reader.hpp"
 
 #include <cmath>
@@ -7,6 +8,12 @@
 #include <vector>
 
 namespace xfdem::scene {
+
+std::string number(double x) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", x);
+  return buffer;
+}
 
 std::string join_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
@@ -21,16 +28,10 @@ std::string type_name(const Json& v) {
   if (v.is_array()) return "an array";
   return "an object";
 }
-std::string format_number(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
 std::string describe_range(Range r) {
   std::string s;
-  if (std::isfinite(r.lo)) s += (r.lo_open ? "> " : ">= ") + format_number(r.lo);
-  if (std::isfinite(r.hi)) s += (s.empty() ? "" : " and ") + std::string(r.hi_open ? "< " : "<= ") + format_number(r.hi);
+  if (std::isfinite(r.lo)) s += (r.lo_open ? "> " : ">= ") + number(r.lo);
+  if (std::isfinite(r.hi)) s += (s.empty() ? "" : " and ") + std::string(r.hi_open ? "< " : "<= ") + number(r.hi);
   return s;
 }
 }  // namespace
@@ -42,7 +43,7 @@ double read_real(const Json& value, const std::string& where, Range range) {
   const bool below = range.lo_open ? !(x > range.lo) : !(x >= range.lo);
   const bool above = range.hi_open ? !(x < range.hi) : !(x <= range.hi);
   if (below || above)
-    throw SceneError("scene key '" + where + "': must be " + describe_range(range) + " (got " + format_number(x) + ")");
+    throw SceneError("scene key '" + where + "': must be " + describe_range(range) + " (got " + number(x) + ")");
   return x;
 }
 
@@ -83,7 +84,7 @@ long long ObjectReader::integer(const char* key, long long lo, long long hi) {
   const double x = v.get<double>();
   if (!(x >= static_cast<double>(lo) && x <= static_cast<double>(hi)))
     fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (got " +
-                  format_number(x) + ")");
+                  number(x) + ")");
   return static_cast<long long>(x);
 }
 

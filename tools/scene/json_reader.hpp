@@ -22,6 +22,9 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A value as a message prints it: every digit that reads back bit-exact ("%.17g").
+std::string number(double x);
+
 /// Allowed interval for a number. Open ends exclude the bound.
 struct Range {
   double lo = -std::numeric_limits<double>::infinity();

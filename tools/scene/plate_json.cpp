@@ -8,11 +8,6 @@ namespace xfdem::scene {
 
 namespace {
 
-std::string number(double x) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", x);
-  return buffer;
-}
 
 PlateEdge read_edge(ObjectReader& r) {
   const std::string e = r.choice("edge", {"left", "right", "bottom", "top"});
