@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <set>
-#include <sstream>
 #include <utility>
 #include <vector>
 

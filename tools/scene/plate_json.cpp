@@ -176,11 +176,7 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   const std::string quantity =
       p.choice("quantity", {"displacement", "velocity", "acceleration", "stress", "energy", "momentum"});
   if (quantity == "energy") {
-    const std::string of = p.choice("of", {"total", "kinetic", "elastic", "potential"});
-    probe.kind = of == "total"     ? Probe::Kind::energy_total
-                 : of == "kinetic" ? Probe::Kind::energy_kinetic
-                 : of == "elastic" ? Probe::Kind::energy_elastic
-                                   : Probe::Kind::energy_potential;
+    probe.kind = energy_probe_kind(p);
     return;
   }
   if (quantity == "momentum") {

@@ -183,6 +183,14 @@ void apply_override(Json& document, const std::string& assignment) {
   *node = value;
 }
 
+Probe::Kind energy_probe_kind(ObjectReader& p) {
+  const std::string of = p.choice("of", {"total", "kinetic", "elastic", "potential"});
+  return of == "total"     ? Probe::Kind::energy_total
+         : of == "kinetic" ? Probe::Kind::energy_kinetic
+         : of == "elastic" ? Probe::Kind::energy_elastic
+                           : Probe::Kind::energy_potential;
+}
+
 Scene parse_scene(const Json& document) {
   Scene scene;
   ObjectReader top(document, "");
@@ -286,11 +294,7 @@ Scene parse_scene(const Json& document) {
     const std::string quantity = p.choice("quantity", {"position", "velocity", "displacement", "contact_force",
                                                        "interface_gap", "energy"});
     if (quantity == "energy") {
-      const std::string of = p.choice("of", {"total", "kinetic", "elastic", "potential"});
-      probe.kind = of == "total"     ? Probe::Kind::energy_total
-                   : of == "kinetic" ? Probe::Kind::energy_kinetic
-                   : of == "elastic" ? Probe::Kind::energy_elastic
-                                     : Probe::Kind::energy_potential;
+      probe.kind = energy_probe_kind(p);
     } else if (quantity == "contact_force") {
       const Json& between = p.raw("between");
       if (!between.is_array() || between.size() != 2 || !between[0].is_string() || !between[1].is_string())

@@ -98,6 +98,10 @@ StepStatus acknowledged_flags(const Scene& scene);
 /// objects is refused, naming it), otherwise as a string.
 void apply_override(Json& document, const std::string& assignment);
 
+/// The kind of an `energy` probe from its "of" (total | kinetic | elastic |
+/// potential): the bar's, the plate's and the particles' probes read it alike.
+Probe::Kind energy_probe_kind(ObjectReader& p);
+
 /// Reads, overrides and validates a scene file.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides);
 /// Same, from an already parsed document.
