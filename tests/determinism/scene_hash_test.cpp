@@ -17,13 +17,7 @@
 #include "scene/scene_world.hpp"
 #include "xfdem/state_io.hpp"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define XFDEM_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define XFDEM_UNDER_ASAN 1
-#endif
-#endif
+#include "support/sanitizers.hpp"
 
 namespace xfdem {
 namespace {

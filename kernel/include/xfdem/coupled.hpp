@@ -65,9 +65,9 @@ struct CoupledModel {
   std::int32_t top_plane = -1;    ///< index of the plane that stands for the bar's top
   double top_position = 0;        ///< x of the undeformed top (the bar's length), m
   double max_contact_stiffness = 0;  ///< max over particles of k_i (the type c contact is K = k_i), N/m
-  /// Entries of CoupledState::sensitivity (the doubles of a DemState), and the
-  /// one that is the top plane's impulse: dJ/df̄.
-  std::int32_t sensitivity_size = 0, sensitivity_top_impulse = -1;
+  /// The entry of CoupledState::sensitivity (one per double of a DemState)
+  /// that is the top plane's impulse: dJ/df̄.
+  std::int32_t sensitivity_top_impulse = -1;
   /// ω_c of the stiffest particle–top contact, ω_c² = k (1/m_top + 1/m_p), with
   /// m_top the top node's lumped mass (rad/s).
   double coupling_omega = 0;

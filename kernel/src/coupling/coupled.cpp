@@ -23,6 +23,16 @@ constexpr int kDemStates = 5;
 constexpr const char* kDemStatesNote =
     ", in the state, the coupled window's 3 copies of it and its sensitivity to the force, counted as a fifth";
 
+/// Calls f(name, data, count) for every double field of the particles' state,
+/// in the state's field order: the walk the window's sensitivity is laid out by.
+template <class F>
+void for_each_double(DemState<1>& state, F&& f) {
+  state.for_each_array([&](const char* name, auto* data, auto count) {
+    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+    if constexpr (std::is_same_v<T, double>) f(name, data, static_cast<std::size_t>(count));
+  });
+}
+
 BuildResult prefixed(const char* prefix, const BuildResult& r) { return BuildResult::failure(r.code, "%s%s", prefix, r.message); }
 
 /// A particle starting deeper in the bar's tip than its radius (its centre
@@ -88,14 +98,10 @@ BuildResult build_coupled_sized(const CoupledDesc& desc, const DemDesc<1>& dem, 
   m.energy_check = desc.energy_check;
   // The sensitivity has one entry per double of the particles' state.
   std::int32_t doubles = 0;
-  s.dem.for_each_array([&](const char* name, auto* data, auto count) {
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    if constexpr (std::is_same_v<T, double>) {
-      if (std::strcmp(name, "plane_impulse") == 0) m.sensitivity_top_impulse = doubles + m.top_plane;
-      doubles += static_cast<std::int32_t>(count);
-    }
+  for_each_double(s.dem, [&](const char* name, double*, std::size_t count) {
+    if (std::strcmp(name, "plane_impulse") == 0) m.sensitivity_top_impulse = doubles + m.top_plane;
+    doubles += static_cast<std::int32_t>(count);
   });
-  m.sensitivity_size = doubles;
   s.sensitivity.assign(static_cast<std::size_t>(doubles), 0.0);
   coupled_restart_energy_ledger(m, s);
   w.dem_start = s.dem;
@@ -284,22 +290,17 @@ bool moves_with_force(const char* name) {
 /// the two passes agree, so that applying it leaves those bits alone.
 void measure_sensitivity(CoupledState& s, const DemState<1>& first, double df) {
   std::size_t k = 0;
-  const_cast<DemState<1>&>(first).for_each_array([&](const char*, auto* data, auto count) {  // only read
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    if constexpr (std::is_same_v<T, double>)
-      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) s.sensitivity[k++] = data[i];
+  for_each_double(const_cast<DemState<1>&>(first), [&](const char*, double* data, std::size_t count) {  // only read
+    for (std::size_t i = 0; i < count; ++i) s.sensitivity[k++] = data[i];
   });
   k = 0;
-  s.dem.for_each_array([&](const char* name, auto* data, auto count) {
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    if constexpr (std::is_same_v<T, double>) {
-      const bool moves = moves_with_force(name);
-      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i, ++k) {
-        // A field that did not change, or is not finite (a value nothing reads,
-        // or one the halves have reported), has no sensitivity.
-        const double change = data[i] - s.sensitivity[k];
-        s.sensitivity[k] = moves && change != 0.0 && std::isfinite(change) ? change / df : 0.0;
-      }
+  for_each_double(s.dem, [&](const char* name, double* data, std::size_t count) {
+    const bool moves = moves_with_force(name);
+    for (std::size_t i = 0; i < count; ++i, ++k) {
+      // A field that did not change, or is not finite (a value nothing reads,
+      // or one the halves have reported), has no sensitivity.
+      const double change = data[i] - s.sensitivity[k];
+      s.sensitivity[k] = moves && change != 0.0 && std::isfinite(change) ? change / df : 0.0;
     }
   });
 }
@@ -307,11 +308,9 @@ void measure_sensitivity(CoupledState& s, const DemState<1>& first, double df) {
 /// Moves the particles' state along CoupledState::sensitivity by a force change df.
 void apply_sensitivity(CoupledState& s, double df) {
   std::size_t k = 0;
-  s.dem.for_each_array([&](const char*, auto* data, auto count) {
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    if constexpr (std::is_same_v<T, double>)
-      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i, ++k)
-        if (s.sensitivity[k] != 0.0) data[i] += df * s.sensitivity[k];
+  for_each_double(s.dem, [&](const char*, double* data, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i, ++k)
+      if (s.sensitivity[k] != 0.0) data[i] += df * s.sensitivity[k];
   });
 }
 
