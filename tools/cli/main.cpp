@@ -5,9 +5,10 @@
 //
 // Validates the whole scene (and every override) before stepping; writes the
 // CSV to a temporary file renamed into place only when the run succeeded, so a
-// failed run leaves no partial output (--vtk: the files written are removed). Exit codes: 0 success, 2 bad input
-// (usage, scene, override) or out of memory (naming what was being done), 3
-// the stepper reported a status.
+// failed run leaves no partial output (nor VTK files: those written are
+// removed). Exit codes: 0 success, 2 bad input (usage, scene, override, --vtk
+// directory) or out of memory (naming what was being done), 3 the stepper
+// reported a status.
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
