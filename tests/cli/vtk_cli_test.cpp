@@ -157,6 +157,37 @@ TEST(VtkCli, PlateFilesHoldThePlateStateAtEverySample) {
   EXPECT_GT(csv.rows.back()[csv.column("u_tip")], 0.0);
 }
 
+// A static scene writes its one sample at t = 0. Uniaxial tension in plane
+// stress: σ_xx = σ0, σ_yy = σ_xy = 0 and von Mises σ0 in every cell (the
+// closed form), and the points are x + u with u = (σ0 x / E, −ν σ0 y / E).
+TEST(VtkCli, StaticTensionHasTheClosedFormStressInEveryCell) {
+  const fs::path dir = scratch() / "static";
+  fs::remove_all(dir);
+  const Result r = run("run " + tension() + " --set continuum.analysis=static --vtk " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto sets = collection(dir / "plate_tension.pvd");
+  ASSERT_EQ(sets.size(), 1u);
+  EXPECT_EQ(sets[0].first, 0.0);
+  const std::string text = slurp(dir / sets[0].second);
+  const double sigma0 = 1e6, e = 2e11, nu = 0.3, eps = 2.220446049250313e-16;
+  const auto sxx = array(text, "Name=\"stress_xx\""), syy = array(text, "Name=\"stress_yy\"");
+  const auto sxy = array(text, "Name=\"stress_xy\""), vm = array(text, "Name=\"von_mises\"");
+  ASSERT_EQ(vm.size(), 200u);
+  for (std::size_t c = 0; c < 200; ++c) {
+    EXPECT_NEAR(sxx[c], sigma0, 256 * eps * sigma0);
+    EXPECT_NEAR(syy[c], 0.0, 256 * eps * sigma0);
+    EXPECT_NEAR(sxy[c], 0.0, 256 * eps * sigma0);
+    EXPECT_NEAR(vm[c], sigma0, 256 * eps * sigma0);
+  }
+  const auto points = array(text, "<Points>"), u = array(text, "Name=\"displacement\"");
+  ASSERT_EQ(points.size(), 2400u);
+  for (std::size_t p = 0; p < 800; ++p) {
+    const double x = points[3 * p] - u[3 * p], y = points[3 * p + 1] - u[3 * p + 1];
+    EXPECT_NEAR(u[3 * p], sigma0 * x / e, 64 * eps * 1e-5);
+    EXPECT_NEAR(u[3 * p + 1], -nu * sigma0 * y / e, 64 * eps * 1e-5);
+  }
+}
+
 namespace {
 
 const char* kDisks = R"({
