@@ -11,8 +11,8 @@
 //                  check every 16 steps (the default) or off (arg check = 0).
 //   BM_PlateSolve: the back-substitution alone (BandLdlt::solve).
 //   BM_PlateStiffnessProduct: the step's other large term, y −= K x, as the
-//                  step computes it (method 0: over K's profile,
-//                  SymmetricBand::subtract_product) and as it could (method 1:
+//                  step computes it (cells:0, over K's profile,
+//                  SymmetricBand::subtract_product) and as it could (cells:1,
 //                  cell by cell from the one 8 × 8 element stiffness, which
 //                  touches only the nonzeros); a measurement for
 //                  docs/benchmarks.md, not a code path of the kernel.
@@ -133,7 +133,7 @@ void element_product(const xfdem::PlateModel& m, const double* x, double* y) {
     }
 }
 
-// Args: nx, ny, method (0: profile, 1: cell by cell).
+// Args: nx, ny, cells (0: over the profile, 1: cell by cell).
 void BM_PlateStiffnessProduct(benchmark::State& bench) {
   xfdem::PlateModel m;
   xfdem::PlateState st;
