@@ -1,13 +1,14 @@
 // xfdem: the command line.
 //
-//   xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N]
+//   xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N] [--vtk DIR]
 //   xfdem replay record|check ...   (tools/cli/replay.cpp)
 //
 // Validates the whole scene (and every override) before stepping; writes the
 // CSV to a temporary file renamed into place only when the run succeeded, so a
-// failed run leaves no partial output. Exit codes: 0 success, 2 bad input
-// (usage, scene, override) or out of memory (naming what was being done), 3
-// the stepper reported a status.
+// failed run leaves no partial output (nor VTK files: those written are
+// removed). Exit codes: 0 success, 2 bad input (usage, scene, override, --vtk
+// directory) or out of memory (naming what was being done), 3 the stepper
+// reported a status.
 #include <cstdio>
 #include <cerrno>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,6 +24,7 @@
 #include "cli/stage.hpp"
 #include "scene/runner.hpp"
 #include "scene/scene.hpp"
+#include "scene/vtk.hpp"
 #include "xfdem/version.hpp"
 
 int replay_command(int argc, char** argv);  // tools/cli/replay.cpp
@@ -29,7 +32,7 @@ int replay_command(int argc, char** argv);  // tools/cli/replay.cpp
 namespace {
 
 constexpr const char* kUsage =
-    "usage: xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N]\n"
+    "usage: xfdem run SCENE.json [--set KEY=VALUE ...] [--csv OUT.csv] [--threads N] [--vtk DIR]\n"
     "       xfdem replay record SCENE.json [--set KEY=VALUE ...] [--steps N] --out RUN.hashes\n"
     "       xfdem replay check SCENE.json [--set KEY=VALUE ...] [--steps N] --against RUN.hashes\n"
     "       xfdem --version\n";
@@ -92,7 +95,8 @@ bool write_output(const std::string& path, const std::string& text) {
 }
 
 int run(int argc, char** argv) {
-  std::string scene_path, csv_path;
+  std::string scene_path, csv_path, vtk_path;
+  bool vtk = false;
   std::vector<std::string> overrides;
   int threads = 1;
   for (int i = 2; i < argc; ++i) {
@@ -106,6 +110,11 @@ int run(int argc, char** argv) {
     } else if (arg == "--csv") {
       csv_path = value("--csv");
       if (csv_path.empty()) throw xfdem::scene::SceneError("--csv: must name a file (got an empty path)");
+    } else if (arg == "--vtk") {
+      if (i + 1 >= argc || (argv[i + 1][0] == '-' && argv[i + 1][1] == '-'))
+        throw xfdem::scene::SceneError("--vtk: missing value (the directory to write the VTK files in)");
+      vtk_path = argv[++i];
+      vtk = true;
     } else if (arg == "--threads") {
       const std::string t = value("--threads");
       if (t != "1" && t != "2") throw xfdem::scene::SceneError("--threads: must be 1 or 2 (got '" + t + "')");
@@ -121,12 +130,25 @@ int run(int argc, char** argv) {
   if (scene_path.empty()) throw xfdem::scene::SceneError("no scene file given");
   xfdem::cli::stage = "loading the scene file";
   const xfdem::scene::Scene scene = xfdem::scene::load_scene(scene_path, overrides);
+  // The VTK files of a run that fails are removed (no partial output).
+  std::optional<xfdem::scene::VtkSeries> series;
+  struct Abandon {
+    std::optional<xfdem::scene::VtkSeries>& series;
+    bool keep = false;
+    ~Abandon() {
+      if (!keep && series) series->abandon();
+    }
+  } abandon{series};
+  if (vtk) {
+    xfdem::cli::stage = "preparing the VTK directory";
+    series.emplace(vtk_path, scene);
+  }
 
   std::ostringstream buffer;
   xfdem::scene::RunSummary summary;
   xfdem::cli::stage = "building and running the scene";
   try {
-    summary = xfdem::scene::run_scene(scene, buffer, threads);
+    summary = xfdem::scene::run_scene(scene, buffer, threads, series ? &*series : nullptr);
   } catch (const xfdem::scene::OutputError& e) {
     // The CSV is held in memory until the run ends (no partial output): it could not grow.
     std::fprintf(stderr,
@@ -139,8 +161,18 @@ int run(int argc, char** argv) {
     std::cerr << "xfdem: " << what << "\n";
     return what.rfind("step ", 0) == 0 ? 3 : 2;
   }
+  if (series) {
+    xfdem::cli::stage = "writing the VTK collection";
+    try {
+      series->finish();
+    } catch (const xfdem::scene::SceneError& e) {
+      std::cerr << "xfdem: " << e.what() << "\n";
+      return 2;
+    }
+  }
   xfdem::cli::stage = "writing the CSV";
   if (!write_output(csv_path, std::move(buffer).str())) return 2;
+  abandon.keep = true;
   std::fprintf(stderr, "xfdem: %s: %lld steps, wall %.3f s, mean %.3f us/step, worst %.3f us/step\n",
                scene.name.c_str(), static_cast<long long>(summary.steps), summary.wall_seconds,
                summary.mean_step_seconds * 1e6, summary.worst_step_seconds * 1e6);

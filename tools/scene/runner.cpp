@@ -8,6 +8,7 @@
 #include "xfdem/coupled.hpp"
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
+#include "scene/vtk.hpp"
 
 #include <memory>
 #include <new>
@@ -55,6 +56,7 @@ class DemSystem {
   void time_stages(bool on) { workspace_.clock_ns = on ? &platform::monotonic_ns : nullptr; }
   std::string stages() const { return dem_stages(model_, state_, workspace_.profile); }
   StepStatus step() { return dem_step(model_, state_, workspace_); }
+  void write_vtk(VtkSeries& vtk) const { vtk.particles(model_, state_); }
   double probe(const Probe& p) const {
     switch (p.kind) {
       case Probe::Kind::particle_position: return state_.x[p.component][p.particle];
@@ -118,6 +120,7 @@ class PlateSystem {
     if (!built.ok()) throw build_refusal(scene, Built::continuum, built);
   }
   StepStatus step() { return plate_step(model_, state_, workspace_); }
+  void write_vtk(VtkSeries& vtk) const { vtk.plate(model_, state_); }
   void time_stages(bool) {}
   std::string stages() const { return "continuum only"; }
   double probe(const Probe& p) const {
@@ -194,7 +197,7 @@ class CoupledSystem {
 constexpr std::int64_t kStageSample = 64;
 
 template <class System>
-RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
+RunSummary run_system(const Scene& scene, System& system, std::ostream& csv, VtkSeries* vtk) {
   csv << "t";
   for (const auto& p : scene.probes) csv << ',' << p.name;
   csv << '\n';
@@ -211,6 +214,11 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv) {
     row(step);
     if (!csv) throw OutputError(step, static_cast<double>(step) * scene.dt, rows);
     ++rows;
+    if constexpr (requires { system.write_vtk(*vtk); })
+      if (vtk != nullptr) {
+        vtk->sample(static_cast<double>(step) * scene.dt);
+        system.write_vtk(*vtk);
+      }
   };
   checked_row(0);
   RunSummary summary;
@@ -258,9 +266,10 @@ std::unique_ptr<System> build_system(Args&&... args) {
 }
 
 template <int D>
-RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv, ParallelFor parallel) {
+RunSummary run_dem(const Scene& scene, const DemDesc<D>& desc, std::ostream& csv, ParallelFor parallel,
+                   VtkSeries* vtk) {
   const auto system = build_system<DemSystem<D>>(scene, desc, parallel);
-  return run_system(scene, *system, csv);
+  return run_system(scene, *system, csv, vtk);
 }
 
 std::string output_error_text(std::int64_t step, double time, std::int64_t rows) {
@@ -275,8 +284,9 @@ std::string output_error_text(std::int64_t step, double time, std::int64_t rows)
 OutputError::OutputError(std::int64_t step_, double time_, std::int64_t rows_)
     : SceneError(output_error_text(step_, time_, rows_)), step(step_), rows(rows_), time(time_) {}
 
-RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
+RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads, VtkSeries* vtk) {
   if (threads < 1 || threads > 2) throw SceneError("--threads: must be 1 or 2");
+  if (vtk != nullptr) require_vtk_output(scene);
   // Two workers run the parts a large model splits its work into; the results
   // do not depend on it (docs/determinism.md). Scenes too small to be split
   // (and the coupled cases) run on one worker either way.
@@ -285,18 +295,18 @@ RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads) {
   const ParallelFor parallel = pool ? pool->parallel_for() : ParallelFor{};
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     const auto system = build_system<CoupledSystem>(scene);
-    return run_system(scene, *system, csv);
+    return run_system(scene, *system, csv, nullptr);
   }
-  if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel);
-  if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel);
-  if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv, parallel);
+  if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel, vtk);
+  if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel, vtk);
+  if (const auto* d3 = std::get_if<DemDesc<3>>(&scene.dem)) return run_dem<3>(scene, *d3, csv, parallel, vtk);
   if (scene.bar) {
     const auto system = build_system<BarSystem>(scene, *scene.bar);
-    return run_system(scene, *system, csv);
+    return run_system(scene, *system, csv, nullptr);
   }
   if (scene.plate) {
     PlateSystem system(scene, *scene.plate);
-    return run_system(scene, system, csv);
+    return run_system(scene, system, csv, vtk);
   }
   throw SceneError("scene: nothing to run");
 }

@@ -9,6 +9,8 @@
 
 namespace xfdem::scene {
 
+class VtkSeries;  // scene/vtk.hpp
+
 struct RunSummary {
   std::int64_t steps = 0;
   double wall_seconds = 0;
@@ -41,6 +43,9 @@ class OutputError : public SceneError {
 /// kernel reports by key), on a step status other than ok (message names the
 /// flag and the step), but for energy_growth, which it books in the summary,
 /// and OutputError when `csv` fails.
-RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads = 1);
+///
+/// With `vtk`, every output sample is also written there (a plate and
+/// particles; a scene with a bar is refused: SceneError naming --vtk).
+RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads = 1, VtkSeries* vtk = nullptr);
 
 }  // namespace xfdem::scene

@@ -1,0 +1,192 @@
+// The uncut plate's step and build (docs/benchmarks.md, "2D plate"): the
+// plate of scenes/plate_tension.json (steel, plane stress, 2 m × 1 m, rollers
+// on the left and bottom edges, a step traction on the right edge), Newmark
+// (¼, ½), on 10 × 4, 32 × 16 and 100 × 50 cells (94, 1072 and 10150
+// unknowns; each has a node at the right edge's middle, which the GetFEM
+// script's check reads). tools/bench_getfem.py runs these next to the same plate in GetFEM.
+//
+//   BM_PlateStep:  plate_step() from a warm state: predictor, K u_pred, one
+//                  back-substitution with the factor of M + βΔt²K computed at
+//                  build, the Newmark updates and the energy books; energy
+//                  check every 16 steps (the default) or off (arg check = 0).
+//   BM_PlateSolve: the back-substitution alone (BandLdlt::solve).
+//   BM_PlateStiffnessProduct: the step's other large term, y −= K x, as the
+//                  step computes it (cells:0, over K's profile,
+//                  SymmetricBand::subtract_product) and as it could (cells:1,
+//                  cell by cell from the one 8 × 8 element stiffness, which
+//                  touches only the nonzeros); a measurement for
+//                  docs/benchmarks.md, not a code path of the kernel.
+//   BM_PlateBuild: build_plate(): mesh, assembly of K and M, factorisation
+//                  of M and of M + βΔt²K, the initial acceleration.
+//
+// Counters: dofs; factor_bytes, the bytes of one profile factor (its stored
+// entries, 8 bytes each, plus the 1/D diagonal and the row offsets).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <initializer_list>
+#include <vector>
+
+#include "xfdem/plate.hpp"
+
+namespace {
+
+xfdem::PlateDesc plate(int nx, int ny, int energy_interval) {
+  xfdem::PlateDesc d;
+  d.max[0] = 2.0;
+  d.max[1] = 1.0;
+  d.cells[0] = nx;
+  d.cells[1] = ny;
+  d.plane = xfdem::PlateDesc::Plane::stress;
+  d.thickness = 0.02;
+  d.youngs_modulus = 2e11;
+  d.poisson_ratio = 0.3;
+  d.density = 7800.0;
+  d.dt = 1e-5;
+  d.supports.push_back({xfdem::PlateEdge::left, {true, false}, false});
+  d.supports.push_back({xfdem::PlateEdge::bottom, {false, true}, false});
+  xfdem::PlateLoad load;
+  load.edge = xfdem::PlateEdge::right;
+  load.value[0] = 1e6;
+  d.loads.push_back(load);
+  d.energy_check.interval = energy_interval;
+  return d;
+}
+
+/// Bytes of one factor of the model's profile: the stored lower triangle
+/// (row i from first_column(i) to i), 1/D and the row offsets.
+double factor_bytes(const xfdem::PlateModel& m) {
+  const xfdem::xfem::SymmetricBand& p = m.mass;
+  double entries = 0.0;
+  for (int i = 0; i < p.size(); ++i) entries += static_cast<double>(i - p.first_column(i) + 1);
+  return entries * sizeof(double) + p.size() * (sizeof(double) + sizeof(long) + sizeof(int));
+}
+
+bool build_or_skip(benchmark::State& bench, const xfdem::PlateDesc& d, xfdem::PlateModel& m, xfdem::PlateState& st,
+                   xfdem::PlateWorkspace& ws) {
+  if (xfdem::build_plate(d, m, st, ws).ok()) return true;
+  bench.SkipWithError("build failed");
+  return false;
+}
+
+void counters(benchmark::State& bench, const xfdem::PlateModel& m) {
+  bench.counters["dofs"] = m.dofs;
+  bench.counters["factor_bytes"] = factor_bytes(m);
+}
+
+// Args: nx, ny, energy check interval (0: off, 16: the default).
+void BM_PlateStep(benchmark::State& bench) {
+  xfdem::PlateModel m;
+  xfdem::PlateState st;
+  xfdem::PlateWorkspace ws;
+  if (!build_or_skip(bench, plate(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)),
+                                  static_cast<int>(bench.range(2))),
+                     m, st, ws))
+    return;
+  for (int i = 0; i < 100; ++i) xfdem::plate_step(m, st, ws);
+  for (auto _ : bench) benchmark::DoNotOptimize(xfdem::plate_step(m, st, ws));
+  counters(bench, m);
+  bench.SetItemsProcessed(bench.iterations());
+}
+
+// Args: nx, ny.
+void BM_PlateSolve(benchmark::State& bench) {
+  xfdem::PlateModel m;
+  xfdem::PlateState st;
+  xfdem::PlateWorkspace ws;
+  if (!build_or_skip(bench, plate(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)), 16), m, st, ws))
+    return;
+  for (int i = 0; i < 100; ++i) xfdem::plate_step(m, st, ws);
+  std::vector<double> x = st.a;
+  for (auto _ : bench) {
+    // The same right-hand side every time (the copy is a small share of a solve).
+    for (std::size_t k = 0; k < x.size(); ++k) x[k] = st.a[k];
+    m.effective_factor.solve(x.data());
+    benchmark::DoNotOptimize(x.data());
+  }
+  counters(bench, m);
+}
+
+/// y −= K x cell by cell (held components skipped): the unknowns of cell (i, j)
+/// are those of its nodes counter-clockwise from the lower left.
+void element_product(const xfdem::PlateModel& m, const double* x, double* y) {
+  const int nx = m.desc.cells[0], ny = m.desc.cells[1];
+  const double* ke = m.element_stiffness;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int n0 = j * (nx + 1) + i;
+      const int nodes[4] = {n0, n0 + 1, n0 + nx + 2, n0 + nx + 1};
+      int dof[8];
+      double xe[8];
+      for (int a = 0; a < 8; ++a) {
+        dof[a] = m.node_dof[static_cast<std::size_t>(2 * nodes[a / 2] + a % 2)];
+        xe[a] = dof[a] >= 0 ? x[dof[a]] : 0.0;
+      }
+      for (int a = 0; a < 8; ++a) {
+        if (dof[a] < 0) continue;
+        double s = 0.0;
+        for (int b = 0; b < 8; ++b) s += ke[a * 8 + b] * xe[b];
+        y[dof[a]] -= s;
+      }
+    }
+}
+
+// Args: nx, ny, cells (0: over the profile, 1: cell by cell).
+void BM_PlateStiffnessProduct(benchmark::State& bench) {
+  xfdem::PlateModel m;
+  xfdem::PlateState st;
+  xfdem::PlateWorkspace ws;
+  if (!build_or_skip(bench, plate(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)), 16), m, st, ws))
+    return;
+  for (int i = 0; i < 100; ++i) xfdem::plate_step(m, st, ws);
+  const bool cells = bench.range(2) != 0;
+  std::vector<double> y(st.u.size(), 0.0), check(st.u.size(), 0.0);
+  // Both give the same product (to round-off of the sums' order).
+  m.stiffness.subtract_product(st.u.data(), y.data());
+  element_product(m, st.u.data(), check.data());
+  double scale = 0.0, diff = 0.0;
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    scale = std::max(scale, std::fabs(y[k]));
+    diff = std::max(diff, std::fabs(y[k] - check[k]));
+  }
+  if (!(diff <= 1e-12 * scale)) {
+    bench.SkipWithError("the two products differ");
+    return;
+  }
+  for (auto _ : bench) {
+    if (cells)
+      element_product(m, st.u.data(), y.data());
+    else
+      m.stiffness.subtract_product(st.u.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+  counters(bench, m);
+}
+
+// Args: nx, ny.
+void BM_PlateBuild(benchmark::State& bench) {
+  const xfdem::PlateDesc d = plate(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)), 16);
+  xfdem::PlateModel m;
+  xfdem::PlateState st;
+  xfdem::PlateWorkspace ws;
+  for (auto _ : bench) benchmark::DoNotOptimize(xfdem::build_plate(d, m, st, ws));
+  counters(bench, m);
+}
+
+/// The three sizes, each with every value of a third argument (none: two arguments).
+void sizes(benchmark::internal::Benchmark* b, std::initializer_list<int> third) {
+  const int cells[3][2] = {{10, 4}, {32, 16}, {100, 50}};
+  for (const auto& c : cells) {
+    if (third.size() == 0) b->Args({c[0], c[1]});
+    for (int v : third) b->Args({c[0], c[1], v});
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_PlateStep)->ArgNames({"nx", "ny", "check"})->Apply([](auto* b) { sizes(b, {16, 0}); });
+BENCHMARK(BM_PlateSolve)->ArgNames({"nx", "ny"})->Apply([](auto* b) { sizes(b, {}); });
+BENCHMARK(BM_PlateStiffnessProduct)->ArgNames({"nx", "ny", "cells"})->Apply([](auto* b) { sizes(b, {0, 1}); });
+BENCHMARK(BM_PlateBuild)->ArgNames({"nx", "ny"})->Unit(benchmark::kMicrosecond)->Apply([](auto* b) { sizes(b, {}); });
