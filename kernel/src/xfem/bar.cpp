@@ -27,9 +27,10 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
                                        double* k) const {
   (void)fac1;  // only selects the factorisation, which build fixed together with fac0
   const int n = m_.dofs;
-  double* rhs = ws_.rhs.data();
-  for (int i = 0; i < n; ++i) rhs[i] = 0.0;
-  m_.stiffness.subtract_product(x, rhs);  // −K x
+  // One solve (no interface, or a tied one) is made in place in k; the active
+  // set's loop keeps the right-hand side for its second solve.
+  double* rhs = m_.unilateral ? ws_.rhs.data() : k;
+  m_.stiffness.negated_product(x, rhs);  // −K x
   if (m_.base_dof >= 0) rhs[m_.base_dof] -= m_.base_damping * v[m_.base_dof];
   rhs[m_.tip_dof] += (homogeneous_ ? 0.0 : bar_tip_load(m_, t)) + extra_tip_force_;
 
@@ -37,7 +38,8 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
   const double gap_x = bar_gap_of(m_, x);
   // The interface spring's force on the unknowns at the predicted state, −k (gᵀx) g.
   auto solve_with = [&](bool closed) {
-    for (int i = 0; i < n; ++i) k[i] = rhs[i];
+    if (rhs != k)
+      for (int i = 0; i < n; ++i) k[i] = rhs[i];
     if (closed) {
       const double f = m_.interface_stiffness * gap_x;
       for (int i = 0; i < m_.gap_terms; ++i) k[m_.gap_dof[i]] -= f * m_.gap_coeff[i];
@@ -792,15 +794,17 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   const PieceStart start = piece_start(model, state.u.data(), state.v.data(), t_n, state.tip_input);
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   double net_force[2];  // 1ᵀMa at t_n and t_{n+1}
+  double zero_if_finite = 0.0;  // of u, v and a, summed by the corrector
   StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
                                     workspace.u_pred.data(), workspace.v_pred.data(), model.mass_row_sums.data(),
-                                    net_force);
+                                    net_force, &zero_if_finite);
   if (locates_interface_events(model) && state.interface_closed != closed_before &&
       !has(s, StepStatus::active_set_not_converged)) {
     // The set changed within the step: take it again, in substeps that end at the change.
     restore_start(state, workspace);
     state.interface_closed = closed_before;
     s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
+    zero_if_finite = all_finite(state.u) && all_finite(state.v) && all_finite(state.a) ? 0.0 : 1.0;
   } else {
     workspace.last_start = start;
     workspace.work_before = state.energy.work;
@@ -813,8 +817,7 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   state.tip_input = input.tip_force;
   state.step += 1;
   state.time = t_next;
-  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !ledger_finite(state))
-    s |= StepStatus::non_finite;
+  if (!(zero_if_finite == 0.0) || !ledger_finite(state)) s |= StepStatus::non_finite;
   if (energy_check_due(model.desc.energy_check, state.step)) {
     const double energy = bar_algorithmic_energy(model, state);
     energy_check(state.energy, model.desc.energy_check, {energy, energy, energy});
