@@ -178,19 +178,30 @@ class CoupledSystem {
       case Probe::Kind::bar_velocity: return bar_velocity(m.bar, s.bar, p.bar_at);
       case Probe::Kind::interface_gap: return bar_interface_gap(m.bar, s.bar);
       case Probe::Kind::energy_total: {
-        const CoupledEnergy e = coupled_energy(m, s);
+        const CoupledEnergy& e = energy();
         return e.kinetic + e.elastic + e.potential;
       }
-      case Probe::Kind::energy_kinetic: return coupled_energy(m, s).kinetic;
-      case Probe::Kind::energy_elastic: return coupled_energy(m, s).elastic;
-      case Probe::Kind::energy_potential: return coupled_energy(m, s).potential;
+      case Probe::Kind::energy_kinetic: return energy().kinetic;
+      case Probe::Kind::energy_elastic: return energy().elastic;
+      case Probe::Kind::energy_potential: return energy().potential;
       default: break;  // plate probes are rejected at load for bar scenes
     }
     return NAN;
   }
 
  private:
+  /// The energies of the row's state, computed once for the row's energy probes.
+  const CoupledEnergy& energy() const {
+    if (energy_step_ != world_.state.step) {
+      energy_ = coupled_energy(world_.model, world_.state);
+      energy_step_ = world_.state.step;
+    }
+    return energy_;
+  }
+
   CoupledWorld world_;
+  mutable CoupledEnergy energy_{};
+  mutable std::int64_t energy_step_ = -1;
 };
 
 /// Every kStageSample-th step is timed stage by stage (RunSummary::stages).

@@ -2,8 +2,69 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace xfdem::xfem {
+
+namespace {
+
+// The run-by-run kernels. `p` is the first stored entry of the run's first
+// row; row start + r holds A(i, i − L .. i) at p + r (L + 1) .. p + r (L + 1) + L.
+// Each is the general loop of its caller with the row length L fixed.
+
+/// y −= A x over the run's rows; with kAssign, y[i] = 0 − (row i's sum)
+/// instead of y[i] −= it: row i is the first to write y[i], so that is the
+/// bits of zeroing y first.
+template <int L, bool kAssign>
+void product_run(const double* p, int start, int count, const double* x, double* y) {
+  for (int r = 0; r < count; ++r, p += L + 1) {
+    const int i = start + r;
+    const double xi = x[i];
+    double yi = p[L] * xi;
+    for (int k = 0; k < L; ++k) {
+      yi += p[k] * x[i - L + k];
+      y[i - L + k] -= p[k] * xi;
+    }
+    if constexpr (kAssign)
+      y[i] = 0.0 - yi;
+    else
+      y[i] -= yi;
+  }
+}
+
+template <int L>
+void forward_run(const double* p, int start, int count, double* x) {
+  for (int r = 0; r < count; ++r, p += L + 1) {
+    const int i = start + r;
+    double xi = x[i];
+    for (int k = 0; k < L; ++k) xi -= p[k] * x[i - L + k];
+    x[i] = xi;
+  }
+}
+
+template <int L>
+void backward_run(const double* p, int start, int count, double* x) {
+  for (int r = count - 1; r >= 0; --r) {
+    const int i = start + r;
+    const double* row = p + r * (L + 1);
+    const double xi = x[i];
+    for (int k = 0; k < L; ++k) x[i - L + k] -= row[k] * xi;
+  }
+}
+
+/// f(std::integral_constant<int, L>{}) for the run's length L ≤ SymmetricBand::kShortRow.
+template <class F>
+void with_length(int length, F&& f) {
+  static_assert(SymmetricBand::kShortRow == 3, "one case per short row length");
+  switch (length) {
+    case 0: f(std::integral_constant<int, 0>{}); break;
+    case 1: f(std::integral_constant<int, 1>{}); break;
+    case 2: f(std::integral_constant<int, 2>{}); break;
+    default: f(std::integral_constant<int, 3>{}); break;
+  }
+}
+
+}  // namespace
 
 void SymmetricBand::resize(int n, const std::vector<int>& first_column) {
   n_ = n;
@@ -19,6 +80,16 @@ void SymmetricBand::resize(int n, const std::vector<int>& first_column) {
     next += i - f + 1;
   }
   data_.assign(static_cast<std::size_t>(next), 0.0);
+  runs_.clear();
+  if (n > 0 && kd_ <= kShortRow) {
+    for (int i = 0; i < n; ++i) {
+      const int length = i - first_[static_cast<std::size_t>(i)];
+      if (!runs_.empty() && runs_.back().length == length)
+        ++runs_.back().count;
+      else
+        runs_.push_back({i, 1, length});
+    }
+  }
 }
 
 void SymmetricBand::resize(int n, int kd) {
@@ -45,6 +116,31 @@ void SymmetricBand::multiply(const double* x, double* y) const {
 }
 
 void SymmetricBand::subtract_product(const double* x, double* y) const {
+  if (runs_.empty()) {
+    subtract_product_general(x, y);
+    return;
+  }
+  const double* a = data_.data();
+  for (const Run& run : runs_) {
+    const double* p = a + offset_[static_cast<std::size_t>(run.start)] + first_[static_cast<std::size_t>(run.start)];
+    with_length(run.length, [&](auto length) { product_run<length(), false>(p, run.start, run.count, x, y); });
+  }
+}
+
+void SymmetricBand::negated_product(const double* x, double* y) const {
+  if (runs_.empty()) {
+    for (int i = 0; i < n_; ++i) y[i] = 0.0;
+    subtract_product_general(x, y);
+    return;
+  }
+  const double* a = data_.data();
+  for (const Run& run : runs_) {
+    const double* p = a + offset_[static_cast<std::size_t>(run.start)] + first_[static_cast<std::size_t>(run.start)];
+    with_length(run.length, [&](auto length) { product_run<length(), true>(p, run.start, run.count, x, y); });
+  }
+}
+
+void SymmetricBand::subtract_product_general(const double* x, double* y) const {
   const double* a = data_.data();
   const int* first = first_.data();
   const long* offset = offset_.data();
@@ -125,6 +221,28 @@ bool BandLdlt::factor(const SymmetricBand& a) {
 }
 
 void BandLdlt::solve(double* x) const {
+  const std::vector<SymmetricBand::Run>& runs = l_.runs_;
+  if (runs.empty()) {
+    solve_general(x);
+    return;
+  }
+  const int n = l_.n_;
+  const double* l = l_.data_.data();
+  const long* offset = l_.offset_.data();
+  const int* first = l_.first_.data();
+  for (const SymmetricBand::Run& run : runs) {  // L y = b
+    const double* p = l + offset[run.start] + first[run.start];
+    with_length(run.length, [&](auto length) { forward_run<length()>(p, run.start, run.count, x); });
+  }
+  const double* d_inv = d_inv_.data();
+  for (int i = 0; i < n; ++i) x[i] *= d_inv[i];
+  for (auto run = runs.rbegin(); run != runs.rend(); ++run) {  // Lᵀ x = D⁻¹ y
+    const double* p = l + offset[run->start] + first[run->start];
+    with_length(run->length, [&](auto length) { backward_run<length()>(p, run->start, run->count, x); });
+  }
+}
+
+void BandLdlt::solve_general(double* x) const {
   const int n = l_.n_;
   const double* l = l_.data_.data();
   const int* first = l_.first_.data();

@@ -27,9 +27,10 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
                                        double* k) const {
   (void)fac1;  // only selects the factorisation, which build fixed together with fac0
   const int n = m_.dofs;
-  double* rhs = ws_.rhs.data();
-  for (int i = 0; i < n; ++i) rhs[i] = 0.0;
-  m_.stiffness.subtract_product(x, rhs);  // −K x
+  // One solve (no interface, or a tied one) is made in place in k; the active
+  // set's loop keeps the right-hand side for its second solve.
+  double* rhs = m_.unilateral ? ws_.rhs.data() : k;
+  m_.stiffness.negated_product(x, rhs);  // −K x
   if (m_.base_dof >= 0) rhs[m_.base_dof] -= m_.base_damping * v[m_.base_dof];
   rhs[m_.tip_dof] += (homogeneous_ ? 0.0 : bar_tip_load(m_, t)) + extra_tip_force_;
 
@@ -37,7 +38,8 @@ StepStatus BarOperator::implicit_solve(double fac0, double fac1, double t, const
   const double gap_x = bar_gap_of(m_, x);
   // The interface spring's force on the unknowns at the predicted state, −k (gᵀx) g.
   auto solve_with = [&](bool closed) {
-    for (int i = 0; i < n; ++i) k[i] = rhs[i];
+    if (rhs != k)
+      for (int i = 0; i < n; ++i) k[i] = rhs[i];
     if (closed) {
       const double f = m_.interface_stiffness * gap_x;
       for (int i = 0; i < m_.gap_terms; ++i) k[m_.gap_dof[i]] -= f * m_.gap_coeff[i];
@@ -503,12 +505,21 @@ StepStatus bar_resolve_acceleration(const BarModel& model, BarState& state, BarW
   (void)workspace;  // kept in the signature: the full solve it once did needed it
   StepStatus s = StepStatus::ok;
   const double change = input.tip_force - state.tip_input;
-  if (change != 0.0)
-    for (std::size_t i = 0; i < state.a.size(); ++i) state.a[i] += change * model.tip_unit_acceleration[i];
+  double zero_if_finite = 0.0;  // all_finite(a), in the update's loop when there is one
+  if (change != 0.0) {
+    double* a = state.a.data();
+    const double* unit = model.tip_unit_acceleration.data();
+    for (std::size_t i = 0; i < state.a.size(); ++i) {
+      a[i] += change * unit[i];
+      zero_if_finite += 0.0 * a[i];
+    }
+  } else if (!all_finite(state.a)) {
+    zero_if_finite = 1.0;
+  }
   state.tip_input = input.tip_force;
   // The load is taken at state.time, and a load law tests t against its
   // bounds: a NaN time would read as "no load" rather than propagate.
-  if (!all_finite(state.a) || !std::isfinite(state.time)) s |= StepStatus::non_finite;
+  if (!(zero_if_finite == 0.0) || !std::isfinite(state.time)) s |= StepStatus::non_finite;
   return s;
 }
 
@@ -792,15 +803,17 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   const PieceStart start = piece_start(model, state.u.data(), state.v.data(), t_n, state.tip_input);
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   double net_force[2];  // 1ᵀMa at t_n and t_{n+1}
+  double zero_if_finite = 0.0;  // of u, v and a, summed by the corrector
   StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
                                     workspace.u_pred.data(), workspace.v_pred.data(), model.mass_row_sums.data(),
-                                    net_force);
+                                    net_force, &zero_if_finite);
   if (locates_interface_events(model) && state.interface_closed != closed_before &&
       !has(s, StepStatus::active_set_not_converged)) {
     // The set changed within the step: take it again, in substeps that end at the change.
     restore_start(state, workspace);
     state.interface_closed = closed_before;
     s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
+    zero_if_finite = all_finite(state.u) && all_finite(state.v) && all_finite(state.a) ? 0.0 : 1.0;
   } else {
     workspace.last_start = start;
     workspace.work_before = state.energy.work;
@@ -813,8 +826,7 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   state.tip_input = input.tip_force;
   state.step += 1;
   state.time = t_next;
-  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !ledger_finite(state))
-    s |= StepStatus::non_finite;
+  if (!(zero_if_finite == 0.0) || !ledger_finite(state)) s |= StepStatus::non_finite;
   if (energy_check_due(model.desc.energy_check, state.step)) {
     const double energy = bar_algorithmic_energy(model, state);
     energy_check(state.energy, model.desc.energy_check, {energy, energy, energy});
@@ -829,12 +841,17 @@ StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& 
   if (change == 0.0) return StepStatus::ok;
   const auto n = static_cast<std::size_t>(m.dofs);
   double net_start = ws.last_net_force[0], net_end = 0.0;
+  double zero_if_finite = 0.0;  // of u, v and a, summed in the same loop
+  double* u = st.u.data();
+  double* v = st.v.data();
+  double* a = st.a.data();
   for (std::size_t i = 0; i < n; ++i) {
-    st.u[i] += change * m.tip_response_u[i];
-    st.v[i] += change * m.tip_response_v[i];
-    st.a[i] += change * m.tip_response_a[i];
+    u[i] += change * m.tip_response_u[i];
+    v[i] += change * m.tip_response_v[i];
+    a[i] += change * m.tip_response_a[i];
     net_start += change * m.mass_row_sums[i] * m.tip_unit_acceleration[i];
-    net_end += m.mass_row_sums[i] * st.a[i];
+    net_end += m.mass_row_sums[i] * a[i];
+    zero_if_finite += 0.0 * u[i] + 0.0 * v[i] + 0.0 * a[i];
   }
   // The books, as bar_step would have kept them with this force throughout.
   const double net_force[2] = {net_start, net_end};
@@ -848,7 +865,7 @@ StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& 
   book_work(m, st, ws.last_start, st.time, tip_force);
   st.tip_input = tip_force;
   StepStatus s = StepStatus::ok;
-  if (!all_finite(st.u) || !all_finite(st.v) || !all_finite(st.a) || !ledger_finite(st)) s |= StepStatus::non_finite;
+  if (!(zero_if_finite == 0.0) || !ledger_finite(st)) s |= StepStatus::non_finite;
   return s;
 }
 

@@ -9,6 +9,14 @@
 // profile. resize() allocates, and so does factor() unless the factor already
 // holds one of a matrix of the same profile; multiply(), quadratic() and solve()
 // never do.
+//
+// A profile whose rows are all short (at most kShortRow entries left of the
+// diagonal: the bar's) is also described at resize() as runs of consecutive
+// rows of one length, and the products and solve() walk it run by run
+// with the row length a compile-time constant: the same operations in the same
+// order as the general loops (so the same bits), without the loop control of
+// inner loops one to three long. Wider profiles (the plate's) take the general
+// loops.
 #pragma once
 #include <vector>
 
@@ -32,17 +40,33 @@ class SymmetricBand {
   void multiply(const double* x, double* y) const;
   /// y −= A x.
   void subtract_product(const double* x, double* y) const;
+  /// y ← −A x: the bits of zeroing y and subtract_product(x, y).
+  void negated_product(const double* x, double* y) const;
   /// xᵀ A x.
   [[nodiscard]] double quadratic(const double* x) const;
 
+  /// Rows at most this long left of the diagonal take the run-by-run kernels.
+  static constexpr int kShortRow = 3;
+  /// Whether the products and solve() take the run-by-run kernels.
+  [[nodiscard]] bool short_rows() const { return !runs_.empty(); }
+  /// The general loops, whatever the profile (the tests compare the two paths).
+  void subtract_product_general(const double* x, double* y) const;
+
  private:
   friend class BandLdlt;
+  /// Rows start .. start + count − 1, each with `length` entries left of the diagonal.
+  struct Run {
+    int start;
+    int count;
+    int length;
+  };
   // Row i: entry (i, j) at data_[offset_[i] + j], offset_[i] = start of row i − first(i).
   int n_ = 0;
   int kd_ = 0;
   std::vector<int> first_;
   std::vector<long> offset_;
   std::vector<double> data_;
+  std::vector<Run> runs_;  // empty unless every row is short
 };
 
 /// LDLᵀ of a symmetric positive definite profile matrix, computed on its Jacobi
@@ -58,6 +82,8 @@ class BandLdlt {
   bool factor(const SymmetricBand& a);
   /// x ← A⁻¹ x in place. No allocation.
   void solve(double* x) const;
+  /// solve() through the general loops, whatever the profile.
+  void solve_general(double* x) const;
   [[nodiscard]] int size() const { return l_.n_; }
   [[nodiscard]] bool ready() const { return ready_; }
   /// Smallest and largest pivot of the scaled factorisation (diagnostics: their

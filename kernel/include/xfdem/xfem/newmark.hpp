@@ -53,10 +53,14 @@ struct NewmarkScheme {
 /// acceleration the step starts from ([0]) and ends with ([1]), summed inside
 /// the predictor's and the corrector's loops (for weights M·1 it is the net
 /// force 1ᵀMa, whose Newmark average over the step is the momentum change).
+/// With `zero_if_finite`, the corrector's loop also sums 0·u + 0·v + 0·a of
+/// the new state into it: 0 if every entry is finite, NaN otherwise (the
+/// caller's finiteness check, without another pass over the state).
 /// Returns what implicit_solve returned. No allocation.
 template <class System>
 StepStatus newmark_step(const NewmarkScheme& scheme, const System& system, double t_next, double* u, double* v,
-                        double* a, double* u_pred, double* v_pred, const double* weights, double weighted_a[2]) {
+                        double* a, double* u_pred, double* v_pred, const double* weights, double weighted_a[2],
+                        double* zero_if_finite = nullptr) {
   const int n = system.size();
   const double dt = scheme.dt;
   const double cu = (0.5 - scheme.beta) * dt * dt;
@@ -70,10 +74,21 @@ StepStatus newmark_step(const NewmarkScheme& scheme, const System& system, doubl
   const double fac0 = scheme.fac0();
   const double fac1 = scheme.fac1();
   const StepStatus status = system.implicit_solve(fac0, fac1, t_next, u_pred, v_pred, a);
-  for (int i = 0; i < n; ++i) {
-    u[i] = u_pred[i] + fac0 * a[i];
-    v[i] = v_pred[i] + fac1 * a[i];
-    end += weights[i] * a[i];
+  if (zero_if_finite == nullptr) {
+    for (int i = 0; i < n; ++i) {
+      u[i] = u_pred[i] + fac0 * a[i];
+      v[i] = v_pred[i] + fac1 * a[i];
+      end += weights[i] * a[i];
+    }
+  } else {
+    double check = 0.0;
+    for (int i = 0; i < n; ++i) {
+      u[i] = u_pred[i] + fac0 * a[i];
+      v[i] = v_pred[i] + fac1 * a[i];
+      end += weights[i] * a[i];
+      check += 0.0 * u[i] + 0.0 * v[i] + 0.0 * a[i];
+    }
+    *zero_if_finite = check;
   }
   weighted_a[0] = start;
   weighted_a[1] = end;
