@@ -88,6 +88,10 @@ struct PlateDiscontinuity {
   /// Crack faces tied: traction k·[u] per unit area, k = (normal, tangential), Pa/m.
   double stiffness[2] = {0, 0};
   PlateMaterial material;  ///< inclusion
+  /// Inclusion: enrich the nodes of the cells it cuts with the ridge (false:
+  /// the cut cells are still integrated by material, but the kink inside a
+  /// cell is not represented; for comparison only, no scene key).
+  bool enrich = true;
 };
 
 struct PlateDesc {
