@@ -227,13 +227,13 @@ BuildResult validate_discontinuities(const PlateDesc& d) {
       if (q.points.size() < 3)
         return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: needs at least 3 points, got %zu",
                                     k, q.points.size());
+      if (xfem::polyline_self_intersects(q.points, true))
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: crosses itself", k);
       double area = 0.0;
       for (std::size_t i = 0, j = q.points.size() - 1; i < q.points.size(); j = i++)
         area += q.points[j][0] * q.points[i][1] - q.points[i][0] * q.points[j][1];
       if (!(std::fabs(area) > 0.0))
         return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: encloses no area", k);
-      if (xfem::polyline_self_intersects(q.points, true))
-        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: crosses itself", k);
     } else {
       return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu: an %s is a circle or a polygon", k,
                                   kind_name(q.kind));
