@@ -112,6 +112,24 @@ TEST(PlateCli, TiedCrackOpensBySigmaOverItsStiffness) {
   EXPECT_NEAR(v[4], sigma0, 256 * 2.2e-16 * sigma0);
 }
 
+// The same crack made unilateral and pushed (traction −σ0): the faces close
+// and the closed form is that of the tied faces with the sign turned.
+TEST(PlateCli, UnilateralCrackClosesUnderCompression) {
+  const fs::path csv = scratch() / "crack_unilateral.csv";
+  const Result r = run("run " + cracked() +
+                       " --set continuum.analysis=static --set continuum.discontinuities.0.faces=unilateral "
+                       "--set continuum.loads.0.traction=[-1e6,0] --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(csv);
+  ASSERT_EQ(rows.size(), 2u);
+  const auto v = values(rows[1]);
+  const double sigma0 = -1e6, e = 2e11, kn = 1e13, length = 2.0;
+  EXPECT_NEAR(v[1], sigma0 * length / e + sigma0 / kn, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[2], sigma0 / kn, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[3], 0.0, 64 * 2.2e-16 * 1e-5);  // frictionless: no tangential penalty, and no shear to carry
+  EXPECT_NEAR(v[4], sigma0, 256 * 2.2e-16 * 1e6);
+}
+
 TEST(PlateCli, CrackAndHoleScenesAreTheSameOnOneAndTwoWorkers) {
   for (const std::string& scene : {cracked(), holed()}) {
     const fs::path a = scratch() / "cut_one.csv", b = scratch() / "cut_two.csv";
@@ -174,9 +192,10 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.3],[1,0.3]]}]'",
                       "scene key 'continuum.discontinuities.0.points': the crack 'c' ends inside the domain at (1, 0.3); "
                       "crack tips (branch enrichment) are not supported yet"},
-        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.3],[3,0.3]],"
-                      "\"faces\":\"unilateral\",\"stiffness\":[1e12,1e12]}]'",
-                      "scene key 'continuum.discontinuities.0.faces': unilateral crack faces are not supported yet"},
+        PlateBadInput{"--set continuum.analysis=static --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
+                      "\"points\":[[1.03,-1],[1.03,2]],\"faces\":\"unilateral\",\"stiffness\":[1e13,1e13]}]'",
+                      "'continuum.supports': the plate is not held against rigid motion once its unilateral crack "
+                      "faces open"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"polygon\":[[0.2,0.2],[0.6,0.6],"
                       "[0.6,0.2],[0.2,0.6]]}]'",
                       "scene key 'continuum.discontinuities.0.polygon': crosses itself"},

@@ -3,8 +3,8 @@
 // each side of a free crack), the tiny-cut rule, the bimaterial circular
 // inclusion (Sukumar et al. 2001) and the plate with a circular hole (Kirsch)
 // converging at the optimal rates, a tied crack across the one-cell column
-// reproducing the 1D X-FEM bar, a step that never allocates, and the
-// refusals named by field.
+// reproducing the 1D X-FEM bar, unilateral faces (static closed forms, and
+// in time), and steps that never allocate.
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -572,4 +572,90 @@ TEST(PlateCut, StepNeverAllocates) {
   }
   EXPECT_EQ(counter.allocations(), 0u);
   EXPECT_TRUE(std::isfinite(sink));
+}
+
+// Unilateral (frictionless) faces, static: a strip with a crack across it,
+// pulled or pushed by the prescribed right edge. Pulled, the faces separate
+// (the left part stays at rest, the right one moves by U, the crack opens by
+// U); pushed, they close and the strip is the bar with a spring:
+// σ = U / (L/E + 1/k_n), u_x = σx/E (+ σ/k_n across the crack).
+TEST(PlateCut, UnilateralFacesOpenUnderTensionAndCloseUnderCompression) {
+  const double e = 2e11, nu = 0.3, kn = 1e13, length = 2.0, xc = 1.03;
+  for (const double pull : {1e-5, -1e-5}) {
+    PlateDesc d = static_plate(0.0, 0.0, length, 1.0, 10, 5);
+    d.plane = PlateDesc::Plane::stress;
+    d.youngs_modulus = e, d.poisson_ratio = nu;
+    d.discontinuities.push_back(crack({{xc, -0.1}, {xc, 1.1}}, PlateDiscontinuity::Faces::unilateral, kn));
+    d.supports.push_back({PlateEdge::left, {true, false}, false});
+    d.supports.push_back({PlateEdge::bottom, {false, true}, false});
+    const double sigma = pull > 0 ? 0.0 : pull / (length / e + 1.0 / kn);
+    const double eyy = -nu * sigma / e;
+    for (int j = 0; j <= d.cells[1]; ++j) {
+      const double y = node_y(d, j);
+      d.prescribed.push_back({{length, y}, {pull, eyy * y}});
+    }
+    Built p;
+    const BuildResult r = build_plate(d, p.m, p.s, p.w);
+    ASSERT_TRUE(r.ok()) << r.message;
+    double worst_u = 0.0;
+    for (int sj = 0; sj <= 20; ++sj)
+      for (int si = 0; si <= 20; ++si) {
+        const double x = length * (si + 0.31) / 21.4, y = (sj + 0.29) / 21.4;
+        if (std::fabs(x - xc) < 1e-9) continue;
+        const double ux = pull > 0 ? (x > xc ? pull : 0.0) : sigma * x / e + (x > xc ? sigma / kn : 0.0);
+        const double uy = eyy * y;
+        worst_u = std::max({worst_u, std::fabs(plate_displacement(p.m, p.s, x, y, 0) - ux),
+                            std::fabs(plate_displacement(p.m, p.s, x, y, 1) - uy)});
+      }
+    // The crack runs upwards: its left (the upper side of the jump) is the
+    // part at x < xc and n = (−1, 0), so the normal jump is u_x(right) − u_x(left).
+    const double opening = plate_crack_opening(p.m, p.s, 0, xc, 0.5, 0);
+    const double exact_opening = pull > 0 ? pull : sigma / kn;
+    std::printf("unilateral faces, %s: displacement error %.3g m (%.1f eps of 1e-5), opening %.6g (exact %.6g) m\n",
+                pull > 0 ? "pulled (open)" : "pushed (closed)", worst_u, worst_u / (1e-5 * kEps), opening, exact_opening);
+    EXPECT_LE(worst_u, 64 * kEps * 1e-5);
+    EXPECT_NEAR(opening, exact_opening, 64 * kEps * 1e-5);
+  }
+}
+
+// Unilateral faces in time: a compressive half-sine on the right edge of the
+// strip pushes the faces together, and the right part then flies off: every
+// step settles its active set (no status), never allocates, and the faces
+// never interpenetrate by more than twice the static penetration of the
+// peak traction (a dynamic load factor is at most 2).
+TEST(PlateCut, UnilateralFacesInTimeSettleEveryStepWithoutAllocating) {
+  const double kn = 1e13, peak = 1e6;
+  PlateDesc d = static_plate(0.0, 0.0, 2.0, 1.0, 10, 5);
+  d.plane = PlateDesc::Plane::stress;
+  d.analysis = PlateDesc::Analysis::dynamic;
+  d.dt = 2e-6;
+  d.discontinuities.push_back(crack({{1.03, -0.1}, {1.03, 1.1}}, PlateDiscontinuity::Faces::unilateral, kn));
+  d.supports.push_back({PlateEdge::left, {true, false}, false});
+  d.supports.push_back({PlateEdge::bottom, {false, true}, false});
+  PlateLoad l;
+  l.kind = PlateLoad::Kind::edge_traction;
+  l.edge = PlateEdge::right;
+  l.value[0] = -peak;
+  l.shape = PlateLoadShape::half_sine, l.duration = 2e-4;
+  d.loads.push_back(l);
+  d.energy_check.interval = 1;
+  Built p;
+  const BuildResult r = build_plate(d, p.m, p.s, p.w);
+  ASSERT_TRUE(r.ok()) << r.message;
+  platform::AllocationCounter counter;
+  double most_closed = 0.0, most_open = 0.0;
+  int bad = 0;
+  for (int s = 0; s < 1500; ++s) {
+    if (plate_step(p.m, p.s, p.w) != StepStatus::ok) ++bad;
+    const double opening = plate_crack_opening(p.m, p.s, 0, 1.03, 0.5, 0);  // < 0: interpenetration
+    most_closed = std::min(most_closed, opening);
+    most_open = std::max(most_open, opening);
+  }
+  EXPECT_EQ(counter.allocations(), 0u);
+  std::printf("unilateral faces in time, 1500 steps: %d steps with a status; most closed %.3g m (bound %.3g), most "
+              "open %.3g m\n",
+              bad, most_closed, -2.0 * peak / kn, most_open);
+  EXPECT_EQ(bad, 0);
+  EXPECT_GE(most_closed, -2.0 * peak / kn);
+  EXPECT_GT(most_open, 0.0);  // the right part flies off after the pulse
 }

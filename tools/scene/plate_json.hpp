@@ -1,9 +1,8 @@
 // The scene file's 2D continuum, `"continuum": {"type": "plate", ...}`
 // (shared spec: scenes-2d.md) -> xfdem::PlateDesc, and the plate's probes.
-// Discontinuities: cracks that cut through the plate (faces free or tied),
-// inclusions and voids. Crack tips (`tip_enrichment`, a crack ending inside,
-// the `stress_intensity` probe) and unilateral faces are refused as not
-// supported yet.
+// Discontinuities: cracks that cut through the plate (faces free, tied or
+// unilateral), inclusions and voids. Crack tips (`tip_enrichment`, a crack
+// ending inside, the `stress_intensity` probe) are refused as not supported yet.
 #pragma once
 #include <vector>
 

@@ -5,8 +5,8 @@
 // docs/xfem2d.md gives the formulation. Discontinuities (PlateDiscontinuity)
 // are given by geometry that ignores the mesh: cracks that cut through the
 // whole plate (shifted-Heaviside enrichment; faces free, or tied by a
-// penalty), inclusions (a second material, ridge enrichment) and voids (no
-// material). Crack tips and unilateral faces are not here yet.
+// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment) and voids (no
+// material). Crack tips are not here yet.
 //
 // Model / state / workspace split as the bar's: build_plate() validates a
 // PlateDesc and is the only call that allocates; plate_step() advances the
@@ -187,7 +187,13 @@ struct PlateModel {
     int dof[8];
     double normal[8], tangential[8];
     double weight, k_normal, k_tangential;
+    /// Unilateral faces: the normal penalty acts only while the faces
+    /// interpenetrate ([u]·n < 0), frictionless (k_tangential = 0); not in K.
+    bool unilateral;
   };
+  int unilateral_points = 0;
+  /// M + γΔt C + βΔt² K without the unilateral penalties (dynamic, with unilateral faces).
+  xfem::SymmetricBand base_effective;
   std::vector<FacePoint> face_points;
   /// ρ t ∫ N_n ψ dA of node n's enrichment function in slot s, at [2n + s], kg.
   std::vector<double> enrichment_mass;
@@ -238,6 +244,11 @@ struct PlateWorkspace {
   std::vector<double> damper_u_start, damper_v_start;
   /// Σ h[(1 − γ) 1ᵀMa_n + γ 1ᵀMa_{n+1}] of the last step (free unknowns).
   double last_external_impulse = 0.0;
+  /// Unilateral faces: the active set being tried, the one `factor` holds,
+  /// and the effective matrix and its factor for it (sized at build).
+  std::vector<char> active, factored_active;
+  xfem::SymmetricBand effective;
+  xfem::BandLdlt factor;
 };
 
 /// Validates every field (the message starts with the field's name as in the

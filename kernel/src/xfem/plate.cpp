@@ -198,16 +198,11 @@ BuildResult validate_discontinuities(const PlateDesc& d) {
                                       "crack tips (branch enrichment) are not supported yet: extend it to or beyond "
                                       "the boundary",
                                       k, q.name.c_str(), end[0], end[1]);
-      if (q.faces == Disc::Faces::unilateral)
-        return BuildResult::failure(Code::invalid_argument,
-                                    "discontinuities.%zu.faces: unilateral crack faces are not supported yet (free "
-                                    "or tied)",
-                                    k);
-      if (q.faces == Disc::Faces::tied)
+      if (q.faces != Disc::Faces::free)
         for (int c = 0; c < 2; ++c)
           if (!positive_finite(q.stiffness[c]))
             return BuildResult::failure(Code::invalid_argument,
-                                        "discontinuities.%zu.stiffness: tied faces need [k_normal, k_tangential] "
+                                        "discontinuities.%zu.stiffness: tied and unilateral faces need [k_normal, k_tangential] "
                                         "positive and finite (Pa/m), got %g",
                                         k, q.stiffness[c]);
       if (q.faces != Disc::Faces::free && q.faces != Disc::Faces::tied && q.faces != Disc::Faces::unilateral)
@@ -537,6 +532,25 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
 
 namespace detail {
 
+/// The normal jump [u]·n of a face point.
+inline double face_gap(const PlateModel::FacePoint& fp, const double* u) {
+  double g = 0.0;
+  for (int a = 0; a < 8; ++a)
+    if (fp.dof[a] >= 0) g += fp.normal[a] * u[fp.dof[a]];
+  return g;
+}
+
+/// A += scale · w k_n g gᵀ of face point fp (g: its normal-jump coefficients).
+inline void add_face_penalty(xfem::SymmetricBand& a, const PlateModel::FacePoint& fp, double scale) {
+  for (int i = 0; i < 8; ++i) {
+    if (fp.dof[i] < 0) continue;
+    for (int j = 0; j < 8; ++j) {
+      if (fp.dof[j] < 0 || fp.dof[j] > fp.dof[i]) continue;
+      a.add(fp.dof[i], fp.dof[j], scale * fp.weight * fp.k_normal * fp.normal[i] * fp.normal[j]);
+    }
+  }
+}
+
 class PlateOperator {
  public:
   PlateOperator(const PlateModel& model, PlateWorkspace& workspace) : m_(model), ws_(workspace) {}
@@ -544,20 +558,70 @@ class PlateOperator {
 
   /// Solves (M + fac1 C + fac0 K) k = f(t) − C v − K x, with (fac0, fac1) either
   /// (0, 0) (M k = …: the initial acceleration) or the model's, factored at build.
+  /// With unilateral faces K holds the penalties of the active points: the
+  /// set starts from the points closing at the predictor x and is updated
+  /// from the points closing at x + fac0 k until it repeats (re-factoring the
+  /// effective matrix whenever the set differs from the factored one); after
+  /// kMaxActiveSetIterations the last solve stands and the step says
+  /// active_set_not_converged.
   StepStatus implicit_solve(double fac0, double fac1, double t, const double* x, const double* v, double* k) const {
     (void)fac1;
     const int n = m_.dofs;
     double* shape = ws_.shape_end.data();
     const int slots = static_cast<int>(ws_.shape_end.size());
     for (int s = 0; s < slots; ++s) shape[s] = plate_load_shape(m_, s - 1, t);
-    for (int i = 0; i < n; ++i) k[i] = m_.held_force[static_cast<std::size_t>(i)];
+    double* base = m_.unilateral_points > 0 ? ws_.rhs.data() : k;
+    for (int i = 0; i < n; ++i) base[i] = m_.held_force[static_cast<std::size_t>(i)];
     const std::size_t entries = m_.load_dof.size();
-    for (std::size_t e = 0; e < entries; ++e) k[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
-    m_.stiffness.subtract_product(x, k);
-    for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) k[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
-    (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
-    return StepStatus::ok;
+    for (std::size_t e = 0; e < entries; ++e) base[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
+    m_.stiffness.subtract_product(x, base);
+    for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
+    if (m_.unilateral_points == 0) {
+      (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
+      return StepStatus::ok;
+    }
+    const std::size_t points = m_.face_points.size();
+    for (std::size_t p = 0; p < points; ++p)
+      ws_.active[p] = m_.face_points[p].unilateral && face_gap(m_.face_points[p], x) < 0.0 ? 1 : 0;
+    for (int iteration = 0; iteration < kMaxActiveSetIterations; ++iteration) {
+      for (int i = 0; i < n; ++i) k[i] = base[i];
+      for (std::size_t p = 0; p < points; ++p) {
+        if (!ws_.active[p]) continue;
+        const PlateModel::FacePoint& fp = m_.face_points[p];
+        const double force = fp.weight * fp.k_normal * face_gap(fp, x);
+        for (int a = 0; a < 8; ++a)
+          if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
+      }
+      if (fac0 == 0.0) {  // M k = …: the acceleration does not move u
+        m_.mass_factor.solve(k);
+        return StepStatus::ok;
+      }
+      if (ws_.active != ws_.factored_active) {
+        ws_.effective = m_.base_effective;
+        for (std::size_t p = 0; p < points; ++p)
+          if (ws_.active[p]) add_face_penalty(ws_.effective, m_.face_points[p], fac0);
+        ws_.factor.factor(ws_.effective);
+        ws_.factored_active = ws_.active;
+      }
+      ws_.factor.solve(k);
+      bool same = true;
+      for (std::size_t p = 0; p < points; ++p) {
+        if (!m_.face_points[p].unilateral) continue;
+        // The gap at u_{n+1} = x + fac0 k.
+        const PlateModel::FacePoint& fp = m_.face_points[p];
+        double g = 0.0;
+        for (int a = 0; a < 8; ++a)
+          if (fp.dof[a] >= 0) g += fp.normal[a] * (x[fp.dof[a]] + fac0 * k[fp.dof[a]]);
+        const char now = g < 0.0 ? 1 : 0;
+        if (now != ws_.active[p]) same = false;
+        ws_.active[p] = now;
+      }
+      if (same) return StepStatus::ok;
+    }
+    return StepStatus::active_set_not_converged;
   }
+
+  static constexpr int kMaxActiveSetIterations = 16;
 
  private:
   const PlateModel& m_;
@@ -1055,7 +1119,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         if (model.cell_material[static_cast<std::size_t>(j * nx + i)] < 0) continue;
         for (std::size_t k = 0; k < ndisc; ++k) {
           const PlateDiscontinuity& q = d.discontinuities[k];
-          if (q.kind != PlateDiscontinuity::Kind::crack || q.faces != PlateDiscontinuity::Faces::tied) continue;
+          if (q.kind != PlateDiscontinuity::Kind::crack || q.faces == PlateDiscontinuity::Faces::free) continue;
+          const bool unilateral = q.faces == PlateDiscontinuity::Faces::unilateral;
           double phi[5], mean = 0.0;
           for (int a = 0; a < 4; ++a) mean += (phi[a] = phi_at(model, static_cast<int>(k), en[a]));
           phi[4] = 0.25 * mean;
@@ -1106,8 +1171,13 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
               }
               fp.weight = d.thickness * length * w3[qp];
               fp.k_normal = q.stiffness[0];
-              fp.k_tangential = q.stiffness[1];
+              fp.k_tangential = unilateral ? 0.0 : q.stiffness[1];
+              fp.unilateral = unilateral;
               model.face_points.push_back(fp);
+              if (unilateral) {
+                ++model.unilateral_points;
+                continue;
+              }
               for (int a = 0; a < 8; ++a) {
                 if (fp.dof[a] < 0) continue;
                 for (int b = 0; b < 8; ++b) {
@@ -1308,20 +1378,52 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
 
   if (d.analysis == PlateDesc::Analysis::statics) {
     // K u = f with every load at its amplitude (shape step: 1; none: 0).
-    if (!model.stiffness_factor.factor(model.stiffness) ||
-        !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot()))
+    if (model.unilateral_points == 0 && (!model.stiffness_factor.factor(model.stiffness) ||
+        !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot())))
       return BuildResult::failure(Code::invalid_argument,
                                   "supports: the plate is not held against rigid motion (its stiffness is singular); "
                                   "a static analysis needs supports or prescribed nodes that stop %s",
                                   "translation and rotation");
     double* u = state.u.data();
-    for (std::size_t k = 0; k < nds; ++k) u[k] = model.held_force[k];
-    for (std::size_t e2 = 0; e2 < model.load_dof.size(); ++e2) {
-      const int l = model.load_of[e2];
-      const double s = l < 0 || d.loads[static_cast<std::size_t>(l)].shape == PlateLoadShape::step ? 1.0 : 0.0;
-      u[model.load_dof[e2]] += model.load_value[e2] * s;
+    auto solve = [&] {
+      for (std::size_t k = 0; k < nds; ++k) u[k] = model.held_force[k];
+      for (std::size_t e2 = 0; e2 < model.load_dof.size(); ++e2) {
+        const int l = model.load_of[e2];
+        const double s = l < 0 || d.loads[static_cast<std::size_t>(l)].shape == PlateLoadShape::step ? 1.0 : 0.0;
+        u[model.load_dof[e2]] += model.load_value[e2] * s;
+      }
+      model.stiffness_factor.solve(u);
+    };
+    if (model.unilateral_points == 0) {
+      solve();
+    } else {
+      // Unilateral faces: start with every point closed, solve, open the
+      // points whose faces separate (and close those that interpenetrate),
+      // until the set repeats.
+      const std::size_t points = model.face_points.size();
+      std::vector<char> active(points, 0), updated(points, 0);
+      for (std::size_t p = 0; p < points; ++p) active[p] = model.face_points[p].unilateral ? 1 : 0;
+      bool settled = false;
+      for (int iteration = 0; iteration < 64 && !settled; ++iteration) {
+        xfem::SymmetricBand k_active = model.stiffness;
+        for (std::size_t p = 0; p < points; ++p)
+          if (active[p]) detail::add_face_penalty(k_active, model.face_points[p], 1.0);
+        if (!model.stiffness_factor.factor(k_active) ||
+            !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot()))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "supports: the plate is not held against rigid motion once its unilateral "
+                                      "crack faces %s (its stiffness is singular)",
+                                      "open");
+        solve();
+        for (std::size_t p = 0; p < points; ++p)
+          updated[p] = model.face_points[p].unilateral && detail::face_gap(model.face_points[p], u) < 0.0 ? 1 : 0;
+        settled = updated == active;
+        active.swap(updated);
+      }
+      if (!settled)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities: the unilateral faces' active set did not settle in %d solves", 64);
     }
-    model.stiffness_factor.solve(u);
     model.built = true;
     if (!all_finite(state.u)) {
       model.built = false;
@@ -1344,6 +1446,15 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       eff.add(model.damper_dof[k], model.damper_dof[k], fac1 * model.damper_coeff[k]);
     if (!model.effective_factor.factor(eff))
       return BuildResult::failure(Code::invalid_argument, "dt: the effective stiffness is not positive definite");
+    if (model.unilateral_points > 0) {
+      // The step re-factors eff + the active penalties into the workspace's
+      // factor, whose storage is sized here (no face active).
+      model.base_effective = eff;
+      workspace.effective = eff;
+      workspace.factor = model.effective_factor;
+      workspace.active.assign(model.face_points.size(), 0);
+      workspace.factored_active.assign(model.face_points.size(), 0);
+    }
   }
   model.built = true;
   const StepStatus s = plate_initial_acceleration(model, state, workspace);
@@ -1623,6 +1734,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
         gn += fp.normal[a] * s.u[static_cast<std::size_t>(fp.dof[a])];
         gt += fp.tangential[a] * s.u[static_cast<std::size_t>(fp.dof[a])];
       }
+    if (fp.unilateral) gn = std::min(gn, 0.0);  // only closing is resisted
     elastic += 0.5 * fp.weight * (fp.k_normal * gn * gn + fp.k_tangential * gt * gt);
   }
   e.elastic = elastic;
