@@ -102,6 +102,16 @@ void add_edge_tractions(PlateDesc& d, double exx, double eyy, double gxy) {
   load(PlateEdge::top, sxy, syy);
 }
 
+/// A half-sine traction along x on the right edge.
+PlateLoad right_half_sine(double traction, double duration) {
+  PlateLoad l;
+  l.kind = PlateLoad::Kind::edge_traction;
+  l.edge = PlateEdge::right;
+  l.value[0] = traction;
+  l.shape = PlateLoadShape::half_sine, l.duration = duration;
+  return l;
+}
+
 struct Built {
   PlateModel m;
   PlateState s;
@@ -552,12 +562,7 @@ TEST(PlateCut, StepNeverAllocates) {
   d.discontinuities.push_back(crack({{-0.1, 0.3}, {2.1, 0.62}}, PlateDiscontinuity::Faces::tied, 1e13));
   PlateDiscontinuity hole = circle(PlateDiscontinuity::Kind::hole, 1.1, 0.78, 0.12);
   d.discontinuities.push_back(hole);
-  PlateLoad l;
-  l.kind = PlateLoad::Kind::edge_traction;
-  l.edge = PlateEdge::right;
-  l.value[0] = 1e6;
-  l.shape = PlateLoadShape::half_sine, l.duration = 1e-4;
-  d.loads.push_back(l);
+  d.loads.push_back(right_half_sine(1e6, 1e-4));
   d.energy_check.interval = 1;
   Built p;
   const BuildResult r = build_plate(d, p.m, p.s, p.w);
@@ -632,12 +637,7 @@ TEST(PlateCut, UnilateralFacesInTimeSettleEveryStepWithoutAllocating) {
   d.discontinuities.push_back(crack({{1.03, -0.1}, {1.03, 1.1}}, PlateDiscontinuity::Faces::unilateral, kn));
   d.supports.push_back({PlateEdge::left, {true, false}, false});
   d.supports.push_back({PlateEdge::bottom, {false, true}, false});
-  PlateLoad l;
-  l.kind = PlateLoad::Kind::edge_traction;
-  l.edge = PlateEdge::right;
-  l.value[0] = -peak;
-  l.shape = PlateLoadShape::half_sine, l.duration = 2e-4;
-  d.loads.push_back(l);
+  d.loads.push_back(right_half_sine(-peak, 2e-4));
   d.energy_check.interval = 1;
   Built p;
   const BuildResult r = build_plate(d, p.m, p.s, p.w);
