@@ -468,6 +468,17 @@ void evaluate(const PlateModel& m, const CellView& v, double xi, double eta, int
   }
 }
 
+int material_of(const PlateModel& m, const CellView& v, int side);
+
+/// The side a probe point takes: its own, except in the void part of a cell
+/// cut by a hole, where it takes the material's (the cell's functions
+/// extended): the exact boundary, by which a probe is checked, and the
+/// piecewise-linear one of the cut cell differ by O(h²).
+int material_side(const PlateModel& m, const CellView& v, double xi, double eta) {
+  const int side = point_side(v, xi, eta);
+  return material_of(m, v, side) < 0 && v.cut >= 0 ? 1 : side;
+}
+
 /// The material of a point of the cell on side `side` (−1: none, a hole).
 int material_of(const PlateModel& m, const CellView& v, int side) {
   if (v.cut < 0 || side > 0) return v.material;
@@ -1579,7 +1590,7 @@ double field_at(const PlateModel& m, const std::vector<double>& f, bool displace
   }
   CellView v;
   make_view(m, i, j, v);
-  const int side = point_side(v, xi, eta);
+  const int side = material_side(m, v, xi, eta);
   if (material_of(m, v, side) < 0) return std::numeric_limits<double>::quiet_NaN();
   BasisAt basis;
   evaluate(m, v, xi, eta, triangle_of(xi, eta), side, basis);
@@ -1638,7 +1649,7 @@ double plate_stress(const PlateModel& m, const PlateState& s, double x, double y
   }
   CellView v;
   make_view(m, i, j, v);
-  const int side = point_side(v, xi, eta);
+  const int side = material_side(m, v, xi, eta);
   const int material = material_of(m, v, side);
   if (material < 0) return std::numeric_limits<double>::quiet_NaN();
   BasisAt basis;
