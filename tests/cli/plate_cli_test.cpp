@@ -1,6 +1,7 @@
 // The plate through the command line (scenes-2d.md, "The 2D continuum: a
-// plate"): static and dynamic runs, the same bytes on one and two workers,
-// and the keys of later slices and bad plate input refused with the key named.
+// plate"): static and dynamic runs, the same bytes on one and two workers, a
+// tied crack and a hole, and the keys of later slices and bad plate input
+// refused with the key named.
 #include <gtest/gtest.h>
 
 #include "support/command.hpp"
@@ -21,6 +22,8 @@ using Result = xfdem::testing::CommandResult;
 fs::path scratch() { return xfdem::testing::scratch("plate_cli_test"); }
 Result run(const std::string& args) { return xfdem::testing::run_command(XFDEM_CLI, args); }
 std::string tension() { return xfdem::testing::scene_file("plate_tension.json"); }
+std::string cracked() { return xfdem::testing::scene_file("plate_crack.json"); }
+std::string holed() { return xfdem::testing::scene_file("plate_hole.json"); }
 
 std::vector<std::string> lines(const fs::path& path) {
   std::ifstream in(path);
@@ -91,6 +94,52 @@ TEST(PlateCli, DynamicRunIsTheSameOnOneAndTwoWorkers) {
   EXPECT_NEAR(v[11], 1e6 * 0.02 * 1e-4, 1e-9 * 2.0);
 }
 
+// The tied crack across the strip, static: the traction passes the crack
+// unchanged, so σ_xx = σ0 everywhere, the crack opens by σ0 / k_n, does not
+// slide, and the loaded edge moves by σ0 L / E + σ0 / k_n.
+TEST(PlateCli, TiedCrackOpensBySigmaOverItsStiffness) {
+  const fs::path csv = scratch() / "crack_static.csv";
+  const Result r = run("run " + cracked() + " --set continuum.analysis=static --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(csv);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0], "t,u_tip,opening,sliding,sxx_mid,E_total,E_elastic,p_x");
+  const auto v = values(rows[1]);
+  const double sigma0 = 1e6, e = 2e11, kn = 1e13, length = 2.0;
+  EXPECT_NEAR(v[1], sigma0 * length / e + sigma0 / kn, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[2], sigma0 / kn, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[3], 0.0, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[4], sigma0, 256 * 2.2e-16 * sigma0);
+}
+
+// The same crack made unilateral and pushed (traction −σ0): the faces close
+// and the closed form is that of the tied faces with the sign turned.
+TEST(PlateCli, UnilateralCrackClosesUnderCompression) {
+  const fs::path csv = scratch() / "crack_unilateral.csv";
+  const Result r = run("run " + cracked() +
+                       " --set continuum.analysis=static --set continuum.discontinuities.0.faces=unilateral "
+                       "--set continuum.loads.0.traction=[-1e6,0] --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(csv);
+  ASSERT_EQ(rows.size(), 2u);
+  const auto v = values(rows[1]);
+  const double sigma0 = -1e6, e = 2e11, kn = 1e13, length = 2.0;
+  EXPECT_NEAR(v[1], sigma0 * length / e + sigma0 / kn, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[2], sigma0 / kn, 64 * 2.2e-16 * 1e-5);
+  EXPECT_NEAR(v[3], 0.0, 64 * 2.2e-16 * 1e-5);  // frictionless: no tangential penalty, and no shear to carry
+  EXPECT_NEAR(v[4], sigma0, 256 * 2.2e-16 * 1e6);
+}
+
+TEST(PlateCli, CrackAndHoleScenesAreTheSameOnOneAndTwoWorkers) {
+  for (const std::string& scene : {cracked(), holed()}) {
+    const fs::path a = scratch() / "cut_one.csv", b = scratch() / "cut_two.csv";
+    ASSERT_EQ(run("run " + scene + " --csv " + a.string()).exit_code, 0);
+    ASSERT_EQ(run("run " + scene + " --threads 2 --csv " + b.string()).exit_code, 0);
+    EXPECT_EQ(slurp(a), slurp(b));
+    EXPECT_GE(lines(a).size(), 2u);
+  }
+}
+
 struct PlateBadInput {
   const char* args;
   const char* must_mention;
@@ -110,7 +159,6 @@ TEST_P(PlateCliRejects, WithTheKeyNamedAndNoOutput) {
 INSTANTIATE_TEST_SUITE_P(
     BadValues, PlateCliRejects,
     ::testing::Values(
-        PlateBadInput{"--set continuum.discontinuities=[]", "scene key 'continuum.discontinuities': not supported yet"},
         PlateBadInput{"--set continuum.tip_enrichment.radius=0", "scene key 'continuum.tip_enrichment': not supported yet"},
         PlateBadInput{"--set 'dem={\"particles\":[]}'",
                       "scene key 'dem': particles together with a plate are not supported yet"},
@@ -138,4 +186,30 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set output.probes.0.at=[3,0]", "scene key 'output.probes.0.at': (3, 0) is outside the plate's domain"},
         PlateBadInput{"--set output.probes.4.component=zz", "scene key 'output.probes.4.component': 'zz' is not one of"},
         PlateBadInput{"--set output.probes.0.quantity=position", "scene key 'output.probes.0.quantity': 'position' is not one of"},
-        PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"}));
+        PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[3,0],[3,1]]}]'",
+                      "scene key 'continuum.discontinuities.0.points': the crack 'c' does not enter the domain"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.3],[1,0.3]]}]'",
+                      "scene key 'continuum.discontinuities.0.points': the crack 'c' ends inside the domain at (1, 0.3); "
+                      "crack tips (branch enrichment) are not supported yet"},
+        PlateBadInput{"--set continuum.analysis=static --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
+                      "\"points\":[[1.03,-1],[1.03,2]],\"faces\":\"unilateral\",\"stiffness\":[1e13,1e13]}]'",
+                      "'continuum.supports': the plate is not held against rigid motion once its unilateral crack "
+                      "faces open"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"polygon\":[[0.2,0.2],[0.6,0.6],"
+                      "[0.6,0.2],[0.2,0.6]]}]'",
+                      "scene key 'continuum.discontinuities.0.polygon': crosses itself"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],"
+                      "\"radius\":0.2}},{\"name\":\"i\",\"type\":\"inclusion\",\"circle\":{\"centre\":[0.8,0.5],\"radius\":0.2},"
+                      "\"material\":{\"youngs_modulus\":1e9,\"poisson_ratio\":0.2,\"density\":1000}}]'",
+                      "scene key 'continuum.discontinuities.1': the inclusion 'i' overlaps the void 'h'"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[1,0.5],"
+                      "\"radius\":0.2}}]'",
+                      "scene key 'output.probes.4.at': (1, 0.5) is in a void"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[1,-1],[1,2]]}]'",
+                      "scene key 'output.probes.4.at': (1, 0.5) is on a discontinuity"},
+        PlateBadInput{"--set continuum.cells=[90000,1] --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
+                      "\"points\":[[-1,0.37],[3,0.37]]}]'",
+                      "'continuum.max_enriched_dofs': the discontinuities need 270001 enriched unknowns, more than 200000"},
+        PlateBadInput{"--set output.probes.0.quantity=stress_intensity",
+                      "scene key 'output.probes.0.quantity': stress_intensity is not supported yet"}));

@@ -1,5 +1,7 @@
 #include "scene/plate_json.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -34,6 +36,69 @@ bool inside(const PlateDesc& d, const std::vector<double>& at) {
   return true;
 }
 
+std::vector<std::array<double, 2>> read_points(ObjectReader& r, const char* key, std::size_t at_least) {
+  const Json& points = r.raw(key);
+  if (!points.is_array() || points.size() < at_least)
+    r.fail(key, "expected a list of at least " + std::to_string(at_least) + " points [x, y]");
+  std::vector<std::array<double, 2>> out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Json& p = points[i];
+    if (!p.is_array() || p.size() != 2) r.fail(key, "point " + std::to_string(i) + " is not [x, y]");
+    out.push_back({read_real(p[0], r.key_path(key) + "." + std::to_string(i)),
+                   read_real(p[1], r.key_path(key) + "." + std::to_string(i))});
+  }
+  return out;
+}
+
+/// One entry of `discontinuities` (scenes-2d.md): crack | inclusion | void.
+PlateDiscontinuity read_discontinuity(const Json& value, const std::string& path, const PlateDesc& d) {
+  ObjectReader r(value, path);
+  PlateDiscontinuity q;
+  q.name = r.text("name");
+  if (q.name.empty()) r.fail("name", "must not be empty");
+  const std::string type = r.choice("type", {"crack", "inclusion", "void"});
+  if (type == "crack") {
+    q.kind = PlateDiscontinuity::Kind::crack;
+    q.shape = PlateDiscontinuity::Shape::polyline;
+    q.points = read_points(r, "points", 2);
+    const std::string faces = r.choice_or("faces", "free", {"free", "tied", "unilateral"});
+    q.faces = faces == "free"   ? PlateDiscontinuity::Faces::free
+              : faces == "tied" ? PlateDiscontinuity::Faces::tied
+                                : PlateDiscontinuity::Faces::unilateral;
+    if (faces == "free") {
+      if (r.has("stiffness")) r.fail("stiffness", "free faces have no penalty (faces tied or unilateral take one)");
+    } else {
+      const std::vector<double> k = r.vector("stiffness", 2, kPositive);
+      q.stiffness[0] = k[0], q.stiffness[1] = k[1];
+    }
+  } else {
+    q.kind = type == "inclusion" ? PlateDiscontinuity::Kind::inclusion : PlateDiscontinuity::Kind::hole;
+    if (r.has("circle") == r.has("polygon")) r.fail("circle", "an " + type + " takes exactly one of circle and polygon");
+    if (r.has("circle")) {
+      q.shape = PlateDiscontinuity::Shape::circle;
+      ObjectReader circle = r.object("circle");
+      const std::vector<double> centre = circle.vector("centre", 2);
+      q.centre[0] = centre[0], q.centre[1] = centre[1];
+      q.radius = circle.real("radius", kPositive);
+      circle.finish();
+    } else {
+      q.shape = PlateDiscontinuity::Shape::polygon;
+      q.points = read_points(r, "polygon", 3);
+    }
+    if (type == "inclusion") {
+      ObjectReader m = r.object("material");
+      q.material.youngs_modulus = m.real("youngs_modulus", kPositive);
+      q.material.poisson_ratio = m.real("poisson_ratio", Range{-1.0, 0.5, true, false});
+      if (d.plane == PlateDesc::Plane::strain && q.material.poisson_ratio >= 0.5)
+        m.fail("poisson_ratio", "must be < 0.5 in plane strain (got " + number(q.material.poisson_ratio) + ")");
+      q.material.density = m.real("density", kPositive);
+      m.finish();
+    }
+  }
+  r.finish();
+  return q;
+}
+
 }  // namespace
 
 bool is_static_plate(const Json& document) {
@@ -46,10 +111,9 @@ bool is_static_plate(const Json& document) {
 PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gravity) {
   PlateDesc d;
   c.choice("type", {"plate"});
-  for (const char* later : {"discontinuities", "tip_enrichment"})
-    if (c.has(later))
-      c.fail(later, "not supported yet: this build has the uncut plate only (cracks, inclusions, voids and their "
-                    "enrichment come later)");
+  if (c.has("tip_enrichment"))
+    c.fail("tip_enrichment", "not supported yet: this build has cracks that cut through the plate only (crack tips "
+                             "and their branch enrichment come later)");
   d.plane = c.choice_or("plane", "strain", {"strain", "stress"}) == "stress" ? PlateDesc::Plane::stress
                                                                             : PlateDesc::Plane::strain;
   d.thickness = c.real_or("thickness", 1.0, kPositive);
@@ -156,6 +220,8 @@ PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gra
       l.finish();
       d.loads.push_back(load);
     }
+  if (c.has("discontinuities"))
+    for (const auto& [value, path] : c.array("discontinuities")) d.discontinuities.push_back(read_discontinuity(*value, path, d));
   c.finish();
   if (d.analysis == PlateDesc::Analysis::dynamic) {
     if (!(std::isfinite(dt) && dt > 0.0)) throw SceneError("scene key 'time.dt': must be > 0 (got " + number(dt) + ")");
@@ -173,8 +239,11 @@ PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gra
 }
 
 void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
-  const std::string quantity =
-      p.choice("quantity", {"displacement", "velocity", "acceleration", "stress", "energy", "momentum"});
+  const std::string quantity = p.choice("quantity", {"displacement", "velocity", "acceleration", "stress", "energy",
+                                                     "momentum", "crack_opening", "stress_intensity"});
+  if (quantity == "stress_intensity")
+    p.fail("quantity", "stress_intensity is not supported yet: this build has no crack tips (cracks cut through "
+                       "the plate)");
   if (quantity == "energy") {
     probe.kind = energy_probe_kind(p);
     return;
@@ -188,6 +257,34 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   const std::vector<double> at = p.vector("at", 2);
   if (!inside(d, at)) p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is outside the plate's domain");
   probe.at[0] = at[0], probe.at[1] = at[1];
+  const double tolerance = 1e-9 * std::min((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
+  if (quantity == "crack_opening") {
+    const std::string name = p.text("crack");
+    int index = -1;
+    for (std::size_t k = 0; k < d.discontinuities.size(); ++k)
+      if (d.discontinuities[k].name == name && d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack)
+        index = static_cast<int>(k);
+    if (index < 0) p.fail("crack", "no crack named '" + name + "' in continuum.discontinuities");
+    const PlateDesc one = [&] {
+      PlateDesc only = d;
+      only.discontinuities = {d.discontinuities[static_cast<std::size_t>(index)]};
+      return only;
+    }();
+    if (plate_point_region(one, at[0], at[1], tolerance) != 1)
+      p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is not on the crack '" + name +
+                       "' (within 1e-9 of a cell)");
+    probe.kind = Probe::Kind::plate_crack_opening;
+    probe.other = index;
+    probe.component = p.choice("component", {"normal", "tangential"}) == "normal" ? 0 : 1;
+    return;
+  }
+  switch (plate_point_region(d, at[0], at[1], tolerance)) {
+    case 1:
+      p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) +
+                       ") is on a discontinuity (within 1e-9 of a cell): its value there has two sides");
+    case 2: p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is in a void: there is no material there");
+    default: break;
+  }
   if (quantity == "stress") {
     const std::string c = p.choice("component", {"xx", "yy", "xy"});
     probe.kind = Probe::Kind::plate_stress;

@@ -1,7 +1,8 @@
 // The scene file's 2D continuum, `"continuum": {"type": "plate", ...}`
 // (shared spec: scenes-2d.md) -> xfdem::PlateDesc, and the plate's probes.
-// This build has the uncut plate only: the keys of the discontinuities
-// (`discontinuities`, `tip_enrichment`) are refused as not supported yet.
+// Discontinuities: cracks that cut through the plate (faces free, tied or
+// unilateral), inclusions and voids. Crack tips (`tip_enrichment`, a crack
+// ending inside, the `stress_intensity` probe) are refused as not supported yet.
 #pragma once
 #include <vector>
 
@@ -21,7 +22,9 @@ bool is_static_plate(const Json& document);
 /// self_weight (default false; uses the scene's gravity), analysis (dynamic |
 /// static, default dynamic), newmark { beta, gamma } (default 1/4, 1/2),
 /// supports [ { edge, fix: [x, y], absorbing } ], prescribed [ { at, displacement } ],
-/// loads [ { edge, traction, shape, duration } | { at, force, shape, duration } ].
+/// loads [ { edge, traction, shape, duration } | { at, force, shape, duration } ],
+/// discontinuities [ { name, type: crack, points, faces, stiffness } |
+/// { name, type: inclusion | void, circle { centre, radius } | polygon, material } ].
 /// `dt` is the scene's time.dt (0 for a static scene without a time block).
 /// Unknown keys and bad values throw SceneError naming the dotted key.
 PlateDesc parse_plate(ObjectReader& continuum, double dt, const std::vector<double>& gravity);
@@ -29,7 +32,9 @@ PlateDesc parse_plate(ObjectReader& continuum, double dt, const std::vector<doub
 /// Reads one probe of a plate scene (after its name): `quantity` displacement |
 /// velocity | acceleration (at [x, y], component 0 | 1), stress (at, component
 /// xx | yy | xy), energy (of total | kinetic | elastic | potential), momentum
-/// (of total | continuum | particles, component 0 | 1).
+/// (of total | continuum | particles, component 0 | 1), crack_opening (crack,
+/// at a point on it, component normal | tangential). A point on a
+/// discontinuity or in a void is refused for the fields at a point.
 void parse_plate_probe(ObjectReader& probe_object, const PlateDesc& plate, Probe& probe);
 
 }  // namespace xfdem::scene

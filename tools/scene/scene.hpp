@@ -36,6 +36,7 @@ struct Probe {
     plate_velocity,
     plate_acceleration,
     plate_stress,
+    plate_crack_opening,  ///< other: the crack's index; component 0 normal, 1 tangential
     momentum_continuum,
     momentum_particles,
   };

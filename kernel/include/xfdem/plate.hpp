@@ -2,8 +2,11 @@
 // thickness t) on a rectangle, meshed with a structured grid of bilinear quads
 // (Q4), consistent mass, integrated in time with Newmark GN22 through the same
 // xfem::newmark_step() and profile LDLᵀ as the bar, or solved once (static).
-// docs/xfem2d.md gives the formulation. This slice is the uncut plate: no
-// cracks, inclusions, voids or enrichment yet.
+// docs/xfem2d.md gives the formulation. Discontinuities (PlateDiscontinuity)
+// are given by geometry that ignores the mesh: cracks that cut through the
+// whole plate (shifted-Heaviside enrichment; faces free, or tied by a
+// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment) and voids (no
+// material). Crack tips are not here yet.
 //
 // Model / state / workspace split as the bar's: build_plate() validates a
 // PlateDesc and is the only call that allocates; plate_step() advances the
@@ -12,7 +15,9 @@
 // Units: SI (m, s, kg, N, Pa). Forces and masses are those of the slice of
 // thickness `thickness` (a plane-strain scene's "per metre" with thickness 1).
 #pragma once
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "xfdem/energy_check.hpp"
@@ -61,6 +66,34 @@ struct PlateLoad {
   double duration = 0.0;              ///< s, half_sine only (0 otherwise)
 };
 
+/// A linear elastic material (an inclusion's; the plate's are PlateDesc's fields).
+struct PlateMaterial {
+  double youngs_modulus = 0.0;  ///< Pa
+  double poisson_ratio = 0.0;
+  double density = 0.0;  ///< kg/m³
+};
+
+/// A discontinuity, by geometry that need not follow the mesh (docs/xfem2d.md).
+struct PlateDiscontinuity {
+  enum class Kind : std::uint8_t { crack, inclusion, hole };  ///< hole: the scene's "void"
+  enum class Shape : std::uint8_t { polyline, circle, polygon };
+  enum class Faces : std::uint8_t { free, tied, unilateral };
+  std::string name;
+  Kind kind = Kind::crack;
+  Shape shape = Shape::polyline;  ///< crack: polyline; inclusion, hole: circle or polygon
+  std::vector<std::array<double, 2>> points;  ///< polyline (crack) or closed polygon, m
+  double centre[2] = {0, 0};                  ///< circle, m
+  double radius = 0.0;                        ///< circle, m
+  Faces faces = Faces::free;                  ///< crack
+  /// Crack faces tied: traction k·[u] per unit area, k = (normal, tangential), Pa/m.
+  double stiffness[2] = {0, 0};
+  PlateMaterial material;  ///< inclusion
+  /// Inclusion: enrich the nodes of the cells it cuts with the ridge (false:
+  /// the cut cells are still integrated by material, but the kink inside a
+  /// cell is not represented; for comparison only, no scene key).
+  bool enrich = true;
+};
+
 struct PlateDesc {
   enum class Plane : std::uint8_t { strain, stress };
   enum class Analysis : std::uint8_t {
@@ -88,6 +121,12 @@ struct PlateDesc {
   EnergyCheck energy_check;
   /// Upper bound on the number of unknowns; 0 sizes everything to the mesh.
   int max_dofs = 0;
+  std::vector<PlateDiscontinuity> discontinuities;
+  /// Capacities fixed at build: enriched unknowns, cut cells (integrated on
+  /// sub-triangles) and crack-face quadrature points. Exceeding one fails the
+  /// build with BuildResult::Code::capacity naming it.
+  int max_enriched_dofs = 200000;
+  int max_cut_cells = 100000;
 };
 
 /// Everything build_plate() derives from a PlateDesc. Immutable after build.
@@ -124,6 +163,40 @@ struct PlateModel {
   /// with nodes counter-clockwise from the lower left.
   double element_stiffness[64] = {};
   double element_mass[64] = {};
+
+  // ---- discontinuities (empty without them) ----------------------------------
+  /// Level set of discontinuity k at natural node n: node_phi[k·nodes + n]
+  /// (xfem/level_set.hpp: positive outside, left of a crack, 0 counts as +).
+  std::vector<double> node_phi;
+  /// Enrichments of node n: discontinuity node_enrichment[2n + s] (s = 0, 1; −1 none),
+  /// its unknowns at enriched_dof[2(2n + s) + c] (−1: held at 0 by a support).
+  std::vector<int> node_enrichment;
+  std::vector<int> enriched_dof;
+  int enriched_dofs = 0;  ///< unknowns of enrichment functions
+  /// Per cell (c = j nx + i): the discontinuity that cuts it (−1 none); for an
+  /// uncut cell, its material: 0 the plate's, 1 + k inclusion k's, −1 none (a hole).
+  std::vector<int> cell_cut_by, cell_material;
+  int cut_cells = 0;
+  /// Elasticity and density of material 0 (the plate) and 1 + k (inclusion k).
+  std::vector<std::array<double, 9>> material_elasticity;
+  std::vector<double> material_density;
+  /// Crack-face penalty points (tied faces): jump [u] = Σ 2 N_a(x) a_a over the
+  /// Heaviside unknowns of the point's crack; stored as the unknowns and the
+  /// coefficients of the normal and tangential jumps, weight = thickness × length.
+  struct FacePoint {
+    int dof[8];
+    double normal[8], tangential[8];
+    double weight, k_normal, k_tangential;
+    /// Unilateral faces: the normal penalty acts only while the faces
+    /// interpenetrate ([u]·n < 0), frictionless (k_tangential = 0); not in K.
+    bool unilateral;
+  };
+  int unilateral_points = 0;
+  /// M + γΔt C + βΔt² K without the unilateral penalties (dynamic, with unilateral faces).
+  xfem::SymmetricBand base_effective;
+  std::vector<FacePoint> face_points;
+  /// ρ t ∫ N_n ψ dA of node n's enrichment function in slot s, at [2n + s], kg.
+  std::vector<double> enrichment_mass;
 };
 
 /// Everything a step changes. Plain data: copy it to snapshot, hash it through
@@ -171,6 +244,11 @@ struct PlateWorkspace {
   std::vector<double> damper_u_start, damper_v_start;
   /// Σ h[(1 − γ) 1ᵀMa_n + γ 1ᵀMa_{n+1}] of the last step (free unknowns).
   double last_external_impulse = 0.0;
+  /// Unilateral faces: the active set being tried, the one `factor` holds,
+  /// and the effective matrix and its factor for it (sized at build).
+  std::vector<char> active, factored_active;
+  xfem::SymmetricBand effective;
+  xfem::BandLdlt factor;
 };
 
 /// Validates every field (the message starts with the field's name as in the
@@ -215,6 +293,17 @@ PlateEnergy plate_energy(const PlateModel& model, const PlateState& state);
 double plate_algorithmic_energy(const PlateModel& model, const PlateState& state);
 /// ∫ ρ v_c dV (component c), kg·m/s.
 double plate_momentum(const PlateModel& model, const PlateState& state, int component);
+
+/// The jump upper (left of the crack) minus lower across crack `crack` (an index
+/// of desc.discontinuities) at a point on it: component 0 normal (left of the
+/// polyline's direction, positive when opening), 1 tangential (along it). NaN
+/// when the point is not in the plate or the index is not a crack.
+double plate_crack_opening(const PlateModel& model, const PlateState& state, int crack, double x, double y,
+                           int component);
+
+/// Where a point lies: −1 outside the domain, 0 in material, 1 on a
+/// discontinuity (within `tolerance` of it, by its exact level set), 2 in a hole.
+int plate_point_region(const PlateDesc& desc, double x, double y, double tolerance);
 
 /// Q4 element matrices of a rectangle hx × hy (2×2 Gauss, exact for it):
 /// stiffness t∫BᵀDB and consistent mass ρt∫NᵀN, 8×8 row-major, unknowns

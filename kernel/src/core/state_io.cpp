@@ -501,6 +501,14 @@ std::uint64_t model_fingerprint(const PlateModel& model) noexcept {
                        (static_cast<std::uint64_t>(l.shape) << 8));
     for (double v : {l.at[0], l.at[1], l.value[0], l.value[1], l.duration}) h = mix_double(h, v);
   }
+  for (const PlateDiscontinuity& q : d.discontinuities) {  // none: the hash of an uncut plate is unchanged
+    h = mix_u64(h, static_cast<std::uint64_t>(q.kind) | (static_cast<std::uint64_t>(q.shape) << 4) |
+                       (static_cast<std::uint64_t>(q.faces) << 8) | (q.enrich ? 1u << 12 : 0u));
+    for (const auto& p : q.points) h = mix_double(mix_double(h, p[0]), p[1]);
+    for (double v : {q.centre[0], q.centre[1], q.radius, q.stiffness[0], q.stiffness[1], q.material.youngs_modulus,
+                     q.material.poisson_ratio, q.material.density})
+      h = mix_double(h, v);
+  }
   return h;
 }
 

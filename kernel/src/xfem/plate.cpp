@@ -2,6 +2,8 @@
 
 #include <Eigen/Core>
 
+#include "xfdem/xfem/level_set.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,6 +67,202 @@ bool all_finite(const std::vector<double>& f) {
   return acc == 0.0;
 }
 
+using xfem::Point2;
+using Disc = PlateDiscontinuity;
+
+/// The level set of discontinuity k at x (crack: the polyline with its end
+/// segments extended far beyond the domain, so that every point of the domain
+/// has its side from a segment, never from beyond an end).
+double level_set(const Disc& q, const std::vector<Point2>& extended, Point2 x) {
+  switch (q.shape) {
+    case Disc::Shape::polyline: return xfem::polyline_level_set(extended, x);
+    case Disc::Shape::circle: return xfem::circle_level_set({q.centre[0], q.centre[1]}, q.radius, x);
+    case Disc::Shape::polygon: return xfem::polygon_level_set(q.points, x);
+  }
+  return 0.0;
+}
+
+/// The crack's polyline with both end segments extended by the domain's diagonal.
+std::vector<Point2> extended_polyline(const PlateDesc& d, const Disc& q) {
+  std::vector<Point2> p = q.points;
+  if (q.shape != Disc::Shape::polyline || p.size() < 2) return p;
+  const double reach = 2.0 * std::hypot(d.max[0] - d.min[0], d.max[1] - d.min[1]);
+  auto extend = [&](Point2 from, Point2 to) {
+    const double len = std::hypot(to[0] - from[0], to[1] - from[1]);
+    return Point2{to[0] + reach * (to[0] - from[0]) / len, to[1] + reach * (to[1] - from[1]) / len};
+  };
+  p.front() = extend(q.points[1], q.points[0]);
+  p.back() = extend(q.points[q.points.size() - 2], q.points.back());
+  return p;
+}
+
+/// Strictly inside the domain.
+bool strictly_inside(const PlateDesc& d, Point2 x) {
+  return x[0] > d.min[0] && x[0] < d.max[0] && x[1] > d.min[1] && x[1] < d.max[1];
+}
+
+/// Closed segment [a, b] meets the open domain: some point of it strictly inside.
+bool segment_enters_domain(const PlateDesc& d, Point2 a, Point2 b) {
+  // Clip the segment's parameter range to the open box (Liang-Barsky).
+  double t0 = 0.0, t1 = 1.0;
+  for (int c = 0; c < 2; ++c) {
+    const double delta = b[c] - a[c];
+    if (delta == 0.0) {
+      if (!(a[c] > d.min[c] && a[c] < d.max[c])) return false;
+      continue;
+    }
+    double lo = (d.min[c] - a[c]) / delta, hi = (d.max[c] - a[c]) / delta;
+    if (lo > hi) std::swap(lo, hi);
+    t0 = std::max(t0, lo);
+    t1 = std::min(t1, hi);
+  }
+  return t0 < t1;
+}
+
+/// Interiors of two regions (circle or polygon) share a point.
+bool regions_overlap(const Disc& a, const Disc& b) {
+  auto point_of = [](const Disc& q) {
+    return q.shape == Disc::Shape::circle ? Point2{q.centre[0], q.centre[1]} : q.points[0];
+  };
+  auto phi = [](const Disc& q, Point2 x) {
+    return q.shape == Disc::Shape::circle ? xfem::circle_level_set({q.centre[0], q.centre[1]}, q.radius, x)
+                                          : xfem::polygon_level_set(q.points, x);
+  };
+  if (a.shape == Disc::Shape::circle && b.shape == Disc::Shape::circle)
+    return std::hypot(a.centre[0] - b.centre[0], a.centre[1] - b.centre[1]) < a.radius + b.radius;
+  if (a.shape == Disc::Shape::polygon && b.shape == Disc::Shape::polygon) {
+    const std::size_t n = a.points.size(), m = b.points.size();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < m; ++j)
+        if (xfem::segments_intersect(a.points[i], a.points[(i + 1) % n], b.points[j], b.points[(j + 1) % m])) return true;
+    return phi(a, point_of(b)) < 0.0 || phi(b, point_of(a)) < 0.0;
+  }
+  const Disc& circle = a.shape == Disc::Shape::circle ? a : b;
+  const Disc& polygon = a.shape == Disc::Shape::circle ? b : a;
+  // The polygon's signed distance at the centre: inside, or nearer than the radius.
+  return xfem::polygon_level_set(polygon.points, {circle.centre[0], circle.centre[1]}) < circle.radius;
+}
+
+void fill_elasticity(PlateDesc::Plane plane, double e, double nu, double dm[3][3]) {
+  if (plane == PlateDesc::Plane::stress) {
+    const double f = e / (1.0 - nu * nu);
+    dm[0][0] = dm[1][1] = f;
+    dm[0][1] = dm[1][0] = f * nu;
+    dm[2][2] = f * 0.5 * (1.0 - nu);
+  } else {
+    const double f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    dm[0][0] = dm[1][1] = f * (1.0 - nu);
+    dm[0][1] = dm[1][0] = f * nu;
+    dm[2][2] = f * 0.5 * (1.0 - 2.0 * nu);
+  }
+  dm[0][2] = dm[2][0] = dm[1][2] = dm[2][1] = 0.0;
+}
+
+const char* kind_name(Disc::Kind k) {
+  return k == Disc::Kind::crack ? "crack" : k == Disc::Kind::inclusion ? "inclusion" : "void";
+}
+
+BuildResult validate_discontinuities(const PlateDesc& d) {
+  for (std::size_t k = 0; k < d.discontinuities.size(); ++k) {
+    const Disc& q = d.discontinuities[k];
+    for (std::size_t o = 0; o < k; ++o)
+      if (d.discontinuities[o].name == q.name)
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.name: '%s' is also discontinuities.%zu's",
+                                    k, q.name.c_str(), o);
+    for (const auto& p : q.points)
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.points: must be finite", k);
+    if (q.kind == Disc::Kind::crack) {
+      if (q.shape != Disc::Shape::polyline)
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.points: a crack is a polyline", k);
+      if (q.points.size() < 2)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.points: a crack needs at least two points, got %zu", k,
+                                    q.points.size());
+      for (std::size_t i = 0; i + 1 < q.points.size(); ++i)
+        if (q.points[i] == q.points[i + 1])
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.points: points %zu and %zu are the same point", k, i, i + 1);
+      if (xfem::polyline_self_intersects(q.points, false))
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.points: the polyline crosses itself", k);
+      bool enters = false;
+      for (std::size_t i = 0; i + 1 < q.points.size(); ++i) enters = enters || segment_enters_domain(d, q.points[i], q.points[i + 1]);
+      if (!enters)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.points: the crack '%s' does not enter the domain", k,
+                                    q.name.c_str());
+      for (const Point2 end : {q.points.front(), q.points.back()})
+        if (strictly_inside(d, end))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.points: the crack '%s' ends inside the domain at (%g, %g); "
+                                      "crack tips (branch enrichment) are not supported yet: extend it to or beyond "
+                                      "the boundary",
+                                      k, q.name.c_str(), end[0], end[1]);
+      if (q.faces != Disc::Faces::free)
+        for (int c = 0; c < 2; ++c)
+          if (!positive_finite(q.stiffness[c]))
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%zu.stiffness: tied and unilateral faces need [k_normal, k_tangential] "
+                                        "positive and finite (Pa/m), got %g",
+                                        k, q.stiffness[c]);
+      if (q.faces != Disc::Faces::free && q.faces != Disc::Faces::tied && q.faces != Disc::Faces::unilateral)
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.faces: must be free, tied or unilateral", k);
+      continue;
+    }
+    if (q.kind != Disc::Kind::inclusion && q.kind != Disc::Kind::hole)
+      return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.type: must be crack, inclusion or void", k);
+    if (q.shape == Disc::Shape::circle) {
+      if (!std::isfinite(q.centre[0]) || !std::isfinite(q.centre[1]))
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.circle.centre: must be finite", k);
+      if (!positive_finite(q.radius))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.circle.radius: must be positive and finite (m), got %g", k,
+                                    q.radius);
+    } else if (q.shape == Disc::Shape::polygon) {
+      if (q.points.size() < 3)
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: needs at least 3 points, got %zu",
+                                    k, q.points.size());
+      if (xfem::polyline_self_intersects(q.points, true))
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: crosses itself", k);
+      double area = 0.0;
+      for (std::size_t i = 0, j = q.points.size() - 1; i < q.points.size(); j = i++)
+        area += q.points[j][0] * q.points[i][1] - q.points[i][0] * q.points[j][1];
+      if (!(std::fabs(area) > 0.0))
+        return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: encloses no area", k);
+    } else {
+      return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu: an %s is a circle or a polygon", k,
+                                  kind_name(q.kind));
+    }
+    if (q.kind == Disc::Kind::inclusion) {
+      const PlateMaterial& m = q.material;
+      if (!positive_finite(m.youngs_modulus))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.material.youngs_modulus: must be positive and finite (Pa), got %g",
+                                    k, m.youngs_modulus);
+      const bool strain = d.plane == PlateDesc::Plane::strain;
+      if (!std::isfinite(m.poisson_ratio) || m.poisson_ratio <= -1.0 || m.poisson_ratio > 0.5 ||
+          (strain && m.poisson_ratio == 0.5))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.material.poisson_ratio: must be in (-1, 0.5%s, got %g", k,
+                                    strain ? ") in plane strain" : "]", m.poisson_ratio);
+      if (!positive_finite(m.density))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.material.density: must be positive and finite (kg/m^3), got %g",
+                                    k, m.density);
+    }
+    // Inclusions and voids must not overlap one another.
+    for (std::size_t o = 0; o < k; ++o) {
+      const Disc& other = d.discontinuities[o];
+      if (other.kind == Disc::Kind::crack) continue;
+      if (regions_overlap(q, other))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu: the %s '%s' overlaps the %s '%s' (discontinuities.%zu)", k,
+                                    kind_name(q.kind), q.name.c_str(), kind_name(other.kind), other.name.c_str(), o);
+    }
+  }
+  return BuildResult::success();
+}
+
 }  // namespace
 
 // ---- element ----------------------------------------------------------------
@@ -108,9 +306,261 @@ void plate_element_matrices(double hx, double hy, const double elasticity[3][3],
     }
 }
 
+
+// ---- cut cells: functions, sub-triangles, quadrature ---------------------------
+
+namespace {
+
+/// The functions of one cell: standard N_a of its four nodes, then each
+/// enrichment N_a ψ_k of its enriched nodes, with their unknowns.
+struct CellView {
+  int i = 0, j = 0, cell = 0;
+  int en[4] = {};
+  int cut = -1;       ///< the discontinuity cutting the cell, −1 none
+  int material = 0;   ///< of the uncut cell / the cut cell's positive side (−1: none)
+  int count = 0;      ///< functions
+  int node[12] = {};  ///< local node of function f
+  int disc[12] = {};  ///< −1: standard; else the enriching discontinuity
+  int dof[12][2] = {};       ///< unknown of (f, c), −1: held or absent
+  double held[12][2] = {};   ///< displacement of a held standard component
+  double phi[5] = {};        ///< the cutting discontinuity's level set at the nodes and the centre (mean)
+  bool plain = true;  ///< standard functions only, the plate's material, uncut (the fixed element matrices apply)
+};
+
+struct BasisAt {
+  double n[12], dx[12], dy[12];
+};
+
+inline double phi_at(const PlateModel& m, int k, int node) {
+  return m.node_phi[static_cast<std::size_t>(k) * static_cast<std::size_t>(m.nodes) + static_cast<std::size_t>(node)];
+}
+
+/// Side of a cell that discontinuity k does not cut: − when some node is strictly negative.
+int uncut_side(const PlateModel& m, int k, const int en[4]) {
+  for (int a = 0; a < 4; ++a)
+    if (phi_at(m, k, en[a]) < 0.0) return -1;
+  return 1;
+}
+
+void make_view(const PlateModel& m, int i, int j, CellView& v) {
+  const int nx = m.desc.cells[0];
+  v.i = i, v.j = j, v.cell = j * nx + i;
+  cell_nodes(nx, i, j, v.en);
+  const bool any = !m.cell_cut_by.empty();
+  v.cut = any ? m.cell_cut_by[static_cast<std::size_t>(v.cell)] : -1;
+  v.material = any ? m.cell_material[static_cast<std::size_t>(v.cell)] : 0;
+  v.count = 0;
+  for (int a = 0; a < 4; ++a) {
+    const int f = v.count++;
+    v.node[f] = a, v.disc[f] = -1;
+    for (int c = 0; c < 2; ++c) {
+      const auto k = static_cast<std::size_t>(2 * v.en[a] + c);
+      v.dof[f][c] = m.node_dof[k];
+      v.held[f][c] = m.node_held[k];
+    }
+  }
+  if (any)
+    for (int a = 0; a < 4; ++a)
+      for (int s = 0; s < 2; ++s) {
+        const int k = m.node_enrichment[static_cast<std::size_t>(2 * v.en[a] + s)];
+        if (k < 0) continue;
+        const int f = v.count++;
+        v.node[f] = a, v.disc[f] = k;
+        for (int c = 0; c < 2; ++c) {
+          v.dof[f][c] = m.enriched_dof[static_cast<std::size_t>(2 * (2 * v.en[a] + s) + c)];
+          v.held[f][c] = 0.0;
+        }
+      }
+  v.plain = v.count == 4 && v.cut < 0 && v.material == 0;
+  if (v.cut >= 0) {
+    double mean = 0.0;
+    for (int a = 0; a < 4; ++a) mean += (v.phi[a] = phi_at(m, v.cut, v.en[a]));
+    v.phi[4] = 0.25 * mean;
+  }
+}
+
+/// Sub-triangle t of a cell (parent coordinates): nodes t, t + 1 and the centre.
+inline void sub_triangle(int t, Point2 out[3]) {
+  out[0] = {kXi[t], kEta[t]};
+  out[1] = {kXi[(t + 1) % 4], kEta[(t + 1) % 4]};
+  out[2] = {0.0, 0.0};
+}
+
+/// The sub-triangle holding parent point (xi, eta).
+inline int triangle_of(double xi, double eta) {
+  if (eta <= -std::fabs(xi)) return 0;
+  if (xi >= std::fabs(eta)) return 1;
+  if (eta >= std::fabs(xi)) return 2;
+  return 3;
+}
+
+/// The linear function on sub-triangle t with values f0, f1 at its nodes and
+/// fc at the centre: value and parent-coordinate gradient at (xi, eta).
+void linear_on_triangle(int t, double f0, double f1, double fc, double xi, double eta, double& value, double& g_xi,
+                        double& g_eta) {
+  const int a = t, b = (t + 1) % 4;
+  const double x0 = kXi[a], y0 = kEta[a], x1 = kXi[b], y1 = kEta[b];
+  const double r0 = f0 - fc, r1 = f1 - fc;
+  const double det = x0 * y1 - x1 * y0;
+  g_xi = (r0 * y1 - r1 * y0) / det;
+  g_eta = (x0 * r1 - x1 * r0) / det;
+  value = fc + g_xi * xi + g_eta * eta;
+}
+
+/// The cutting level set interpolated linearly on sub-triangle t (φ_T).
+void phi_on_triangle(const CellView& v, int t, double xi, double eta, double& value, double& g_xi, double& g_eta) {
+  linear_on_triangle(t, v.phi[t], v.phi[(t + 1) % 4], v.phi[4], xi, eta, value, g_xi, g_eta);
+}
+
+/// The cut side of a point of a cut cell (the one rule: φ = 0 counts as +).
+int point_side(const CellView& v, double xi, double eta) {
+  if (v.cut < 0) return 1;
+  double value = 0.0, gx = 0.0, gy = 0.0;
+  phi_on_triangle(v, triangle_of(xi, eta), xi, eta, value, gx, gy);
+  return xfem::side_of(value);
+}
+
+/// Every function of the cell and its gradient at (xi, eta), which lies in
+/// sub-triangle `tri` on side `side` of the cutting discontinuity (by
+/// membership, from the caller).
+void evaluate(const PlateModel& m, const CellView& v, double xi, double eta, int tri, int side, BasisAt& out) {
+  const double sx = 2.0 / m.cell_size[0], sy = 2.0 / m.cell_size[1];
+  double n[4], dx[4], dy[4];
+  for (int a = 0; a < 4; ++a) {
+    n[a] = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
+    dx[a] = 0.25 * kXi[a] * (1.0 + eta * kEta[a]) * sx;
+    dy[a] = 0.25 * kEta[a] * (1.0 + xi * kXi[a]) * sy;
+  }
+  // The ridge of the cutting inclusion (Moës et al. 2003): ψ = Σ N_b |φ_b| − |φ_T|,
+  // |φ_T| = side·φ_T on the piece.
+  double ridge = 0.0, ridge_dx = 0.0, ridge_dy = 0.0;
+  if (v.cut >= 0 && m.desc.discontinuities[static_cast<std::size_t>(v.cut)].kind == PlateDiscontinuity::Kind::inclusion) {
+    double value = 0.0, gx = 0.0, gy = 0.0;
+    phi_on_triangle(v, tri, xi, eta, value, gx, gy);
+    ridge = -side * value;
+    ridge_dx = -side * gx * sx;
+    ridge_dy = -side * gy * sy;
+    for (int b = 0; b < 4; ++b) {
+      const double abs_phi = std::fabs(v.phi[b]);
+      ridge += n[b] * abs_phi;
+      ridge_dx += dx[b] * abs_phi;
+      ridge_dy += dy[b] * abs_phi;
+    }
+  }
+  for (int f = 0; f < v.count; ++f) {
+    const int a = v.node[f], k = v.disc[f];
+    if (k < 0) {
+      out.n[f] = n[a], out.dx[f] = dx[a], out.dy[f] = dy[a];
+      continue;
+    }
+    if (m.desc.discontinuities[static_cast<std::size_t>(k)].kind == PlateDiscontinuity::Kind::crack) {
+      // Shifted Heaviside: ψ = H(x) − H(x_a), constant on each side.
+      const int h = k == v.cut ? side : uncut_side(m, k, v.en);
+      const double psi = static_cast<double>(h - xfem::side_of(phi_at(m, k, v.en[a])));
+      out.n[f] = n[a] * psi, out.dx[f] = dx[a] * psi, out.dy[f] = dy[a] * psi;
+    } else if (k == v.cut) {
+      out.n[f] = n[a] * ridge;
+      out.dx[f] = dx[a] * ridge + n[a] * ridge_dx;
+      out.dy[f] = dy[a] * ridge + n[a] * ridge_dy;
+    } else {
+      out.n[f] = out.dx[f] = out.dy[f] = 0.0;  // the ridge vanishes outside the cells it cuts
+    }
+  }
+}
+
+int material_of(const PlateModel& m, const CellView& v, int side);
+
+/// The side a probe point takes: its own, except in the void part of a cell
+/// cut by a hole, where it takes the material's (the cell's functions
+/// extended): the exact boundary, by which a probe is checked, and the
+/// piecewise-linear one of the cut cell differ by O(h²).
+int material_side(const PlateModel& m, const CellView& v, double xi, double eta) {
+  const int side = point_side(v, xi, eta);
+  return material_of(m, v, side) < 0 && v.cut >= 0 ? 1 : side;
+}
+
+/// The material of a point of the cell on side `side` (−1: none, a hole).
+int material_of(const PlateModel& m, const CellView& v, int side) {
+  if (v.cut < 0 || side > 0) return v.material;
+  switch (m.desc.discontinuities[static_cast<std::size_t>(v.cut)].kind) {
+    case PlateDiscontinuity::Kind::inclusion: return 1 + v.cut;
+    case PlateDiscontinuity::Kind::hole: return -1;
+    case PlateDiscontinuity::Kind::crack: break;
+  }
+  return v.material;
+}
+
+// Gauss-Legendre, 5 points on [0, 1] (exact to degree 9).
+constexpr double kGl5x[5] = {0.5 * (1.0 - 0.9061798459386640), 0.5 * (1.0 - 0.5384693101056831), 0.5,
+                             0.5 * (1.0 + 0.5384693101056831), 0.5 * (1.0 + 0.9061798459386640)};
+constexpr double kGl5w[5] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665, 0.5 * 0.5688888888888889,
+                             0.5 * 0.4786286704993665, 0.5 * 0.2369268850561891};
+
+/// Calls f(xi, eta, weight, tri, side, material) for the quadrature points of
+/// the cell's material (weight in parent area: × hx hy / 4 for the physical).
+/// An uncut cell: the 2 × 2 Gauss rule (exact for its functions). A cut cell:
+/// its four sub-triangles split along the linear level set, each piece on its
+/// side by membership, a collapsed 5 × 5 Gauss rule on each (exact to degree 8
+/// in the piece: the ridge's products included), weights from the piece's own area.
+template <class F>
+void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
+  if (v.cut < 0) {
+    if (v.material < 0) return;
+    const double g = 1.0 / std::sqrt(3.0);
+    for (int gp = 0; gp < 4; ++gp) {
+      const double xi = gp == 0 || gp == 3 ? -g : g, eta = gp < 2 ? -g : g;
+      f(xi, eta, 1.0, triangle_of(xi, eta), 1, v.material);
+    }
+    return;
+  }
+  for (int t = 0; t < 4; ++t) {
+    Point2 tri[3];
+    sub_triangle(t, tri);
+    const double phi[3] = {v.phi[t], v.phi[(t + 1) % 4], v.phi[4]};
+    xfem::TrianglePiece pieces[3];
+    const int count = xfem::split_triangle(tri, phi, pieces);
+    for (int p = 0; p < count; ++p) {
+      const xfem::TrianglePiece& q = pieces[p];
+      const int material = material_of(m, v, q.side);
+      if (material < 0) continue;
+      const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
+      const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
+      const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
+      if (jac == 0.0) continue;
+      for (int ia = 0; ia < 5; ++ia)
+        for (int ib = 0; ib < 5; ++ib) {
+          const double a = kGl5x[ia], b = kGl5x[ib];
+          const double xi = q.v[0][0] + a * e1x + a * b * e2x, eta = q.v[0][1] + a * e1y + a * b * e2y;
+          f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, t, q.side, material);
+        }
+    }
+  }
+}
+
+}  // namespace
+
 // ---- the one operation the integrator needs ---------------------------------
 
 namespace detail {
+
+/// The normal jump [u]·n of a face point.
+inline double face_gap(const PlateModel::FacePoint& fp, const double* u) {
+  double g = 0.0;
+  for (int a = 0; a < 8; ++a)
+    if (fp.dof[a] >= 0) g += fp.normal[a] * u[fp.dof[a]];
+  return g;
+}
+
+/// A += scale · w k_n g gᵀ of face point fp (g: its normal-jump coefficients).
+inline void add_face_penalty(xfem::SymmetricBand& a, const PlateModel::FacePoint& fp, double scale) {
+  for (int i = 0; i < 8; ++i) {
+    if (fp.dof[i] < 0) continue;
+    for (int j = 0; j < 8; ++j) {
+      if (fp.dof[j] < 0 || fp.dof[j] > fp.dof[i]) continue;
+      a.add(fp.dof[i], fp.dof[j], scale * fp.weight * fp.k_normal * fp.normal[i] * fp.normal[j]);
+    }
+  }
+}
 
 class PlateOperator {
  public:
@@ -119,20 +569,70 @@ class PlateOperator {
 
   /// Solves (M + fac1 C + fac0 K) k = f(t) − C v − K x, with (fac0, fac1) either
   /// (0, 0) (M k = …: the initial acceleration) or the model's, factored at build.
+  /// With unilateral faces K holds the penalties of the active points: the
+  /// set starts from the points closing at the predictor x and is updated
+  /// from the points closing at x + fac0 k until it repeats (re-factoring the
+  /// effective matrix whenever the set differs from the factored one); after
+  /// kMaxActiveSetIterations the last solve stands and the step says
+  /// active_set_not_converged.
   StepStatus implicit_solve(double fac0, double fac1, double t, const double* x, const double* v, double* k) const {
     (void)fac1;
     const int n = m_.dofs;
     double* shape = ws_.shape_end.data();
     const int slots = static_cast<int>(ws_.shape_end.size());
     for (int s = 0; s < slots; ++s) shape[s] = plate_load_shape(m_, s - 1, t);
-    for (int i = 0; i < n; ++i) k[i] = m_.held_force[static_cast<std::size_t>(i)];
+    double* base = m_.unilateral_points > 0 ? ws_.rhs.data() : k;
+    for (int i = 0; i < n; ++i) base[i] = m_.held_force[static_cast<std::size_t>(i)];
     const std::size_t entries = m_.load_dof.size();
-    for (std::size_t e = 0; e < entries; ++e) k[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
-    m_.stiffness.subtract_product(x, k);
-    for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) k[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
-    (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
-    return StepStatus::ok;
+    for (std::size_t e = 0; e < entries; ++e) base[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
+    m_.stiffness.subtract_product(x, base);
+    for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
+    if (m_.unilateral_points == 0) {
+      (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
+      return StepStatus::ok;
+    }
+    const std::size_t points = m_.face_points.size();
+    for (std::size_t p = 0; p < points; ++p)
+      ws_.active[p] = m_.face_points[p].unilateral && face_gap(m_.face_points[p], x) < 0.0 ? 1 : 0;
+    for (int iteration = 0; iteration < kMaxActiveSetIterations; ++iteration) {
+      for (int i = 0; i < n; ++i) k[i] = base[i];
+      for (std::size_t p = 0; p < points; ++p) {
+        if (!ws_.active[p]) continue;
+        const PlateModel::FacePoint& fp = m_.face_points[p];
+        const double force = fp.weight * fp.k_normal * face_gap(fp, x);
+        for (int a = 0; a < 8; ++a)
+          if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
+      }
+      if (fac0 == 0.0) {  // M k = …: the acceleration does not move u
+        m_.mass_factor.solve(k);
+        return StepStatus::ok;
+      }
+      if (ws_.active != ws_.factored_active) {
+        ws_.effective = m_.base_effective;
+        for (std::size_t p = 0; p < points; ++p)
+          if (ws_.active[p]) add_face_penalty(ws_.effective, m_.face_points[p], fac0);
+        ws_.factor.factor(ws_.effective);
+        ws_.factored_active = ws_.active;
+      }
+      ws_.factor.solve(k);
+      bool same = true;
+      for (std::size_t p = 0; p < points; ++p) {
+        if (!m_.face_points[p].unilateral) continue;
+        // The gap at u_{n+1} = x + fac0 k.
+        const PlateModel::FacePoint& fp = m_.face_points[p];
+        double g = 0.0;
+        for (int a = 0; a < 8; ++a)
+          if (fp.dof[a] >= 0) g += fp.normal[a] * (x[fp.dof[a]] + fac0 * k[fp.dof[a]]);
+        const char now = g < 0.0 ? 1 : 0;
+        if (now != ws_.active[p]) same = false;
+        ws_.active[p] = now;
+      }
+      if (same) return StepStatus::ok;
+    }
+    return StepStatus::active_set_not_converged;
   }
+
+  static constexpr int kMaxActiveSetIterations = 16;
 
  private:
   const PlateModel& m_;
@@ -256,6 +756,11 @@ BuildResult validate_plate(const PlateDesc& d) {
     }
   }
   if (d.max_dofs < 0) return BuildResult::failure(Code::invalid_argument, "max_dofs: must be >= 0, got %d", d.max_dofs);
+  if (d.max_enriched_dofs < 0)
+    return BuildResult::failure(Code::invalid_argument, "max_enriched_dofs: must be >= 0, got %d", d.max_enriched_dofs);
+  if (d.max_cut_cells < 0)
+    return BuildResult::failure(Code::invalid_argument, "max_cut_cells: must be >= 0, got %d", d.max_cut_cells);
+  if (BuildResult r = validate_discontinuities(d); !r.ok()) return r;
   if (BuildResult r = validate_energy_check(d.energy_check); !r.ok()) return r;
   return BuildResult::success();
 }
@@ -277,23 +782,119 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   auto xs = [&](int i) { return node_coord(d.min[0], d.max[0], i, nx); };
   auto ys = [&](int j) { return node_coord(d.min[1], d.max[1], j, ny); };
 
-  // ---- material -------------------------------------------------------------
-  const double e = d.youngs_modulus, nu = d.poisson_ratio;
+  // ---- material ---------------------------------------------------------------
   double(&dm)[3][3] = model.elasticity;
-  if (d.plane == PlateDesc::Plane::stress) {
-    const double f = e / (1.0 - nu * nu);
-    dm[0][0] = dm[1][1] = f;
-    dm[0][1] = dm[1][0] = f * nu;
-    dm[2][2] = f * 0.5 * (1.0 - nu);
-  } else {
-    const double f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
-    dm[0][0] = dm[1][1] = f * (1.0 - nu);
-    dm[0][1] = dm[1][0] = f * nu;
-    dm[2][2] = f * 0.5 * (1.0 - 2.0 * nu);
-  }
+  fill_elasticity(d.plane, d.youngs_modulus, d.poisson_ratio, dm);
   model.wave_speed[0] = std::sqrt(dm[0][0] / d.density);
   model.wave_speed[1] = std::sqrt(dm[2][2] / d.density);
   plate_element_matrices(hx, hy, dm, d.thickness, d.density, model.element_stiffness, model.element_mass);
+
+  // ---- discontinuities: level sets, cut cells, enriched nodes -----------------
+  const std::size_t ndisc = d.discontinuities.size();
+  if (ndisc > 0) {
+    auto add_material = [&](double e, double nu, double rho) {
+      double dd[3][3];
+      fill_elasticity(d.plane, e, nu, dd);
+      std::array<double, 9> flat{};
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) flat[static_cast<std::size_t>(3 * r + c)] = dd[r][c];
+      model.material_elasticity.push_back(flat);
+      model.material_density.push_back(rho);
+    };
+    add_material(d.youngs_modulus, d.poisson_ratio, d.density);
+    for (const PlateDiscontinuity& q : d.discontinuities)
+      add_material(q.material.youngs_modulus, q.material.poisson_ratio, q.material.density);
+    model.node_phi.assign(ndisc * static_cast<std::size_t>(nodes), 0.0);
+    for (std::size_t k = 0; k < ndisc; ++k) {
+      const std::vector<Point2> ext = extended_polyline(d, d.discontinuities[k]);
+      for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i)
+          model.node_phi[k * static_cast<std::size_t>(nodes) + static_cast<std::size_t>(j * (nx + 1) + i)] =
+              level_set(d.discontinuities[k], ext, {xs(i), ys(j)});
+      // Tiny cuts of an inclusion or a void: a node within 1e-9 of a cell of
+      // the boundary is on it (φ = 0). The ridge's support does not shrink
+      // with the cut (its span jumps when a boundary crosses a node), so the
+      // answer is kept continuous by moving the boundary by at most 1e-9 of
+      // a cell, far below the O(h²) of its piecewise-linear geometry. Cracks
+      // need no rule: their Heaviside functions live on the sliver only.
+      if (d.discontinuities[k].kind != PlateDiscontinuity::Kind::crack)
+        for (int n = 0; n < nodes; ++n) {
+          double& p = model.node_phi[k * static_cast<std::size_t>(nodes) + static_cast<std::size_t>(n)];
+          if (std::fabs(p) <= 1e-9 * std::min(hx, hy)) p = 0.0;
+        }
+    }
+    const auto ncells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+    model.cell_cut_by.assign(ncells, -1);
+    model.cell_material.assign(ncells, 0);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        int en[4];
+        cell_nodes(nx, i, j, en);
+        const auto cell = static_cast<std::size_t>(j * nx + i);
+        for (std::size_t k = 0; k < ndisc; ++k) {
+          double lo = INFINITY, hi = -INFINITY;
+          for (int a = 0; a < 4; ++a) {
+            const double p = phi_at(model, static_cast<int>(k), en[a]);
+            lo = std::min(lo, p), hi = std::max(hi, p);
+          }
+          const PlateDiscontinuity& q = d.discontinuities[k];
+          if (lo < 0.0 && hi > 0.0) {  // area on both sides
+            const int other = model.cell_cut_by[cell];
+            if (other >= 0)
+              return BuildResult::failure(Code::invalid_argument,
+                                          "discontinuities.%zu: '%s' and '%s' cut the same cell (%d, %d); this build "
+                                          "allows one discontinuity per cell (refine the mesh or move them apart)",
+                                          k, q.name.c_str(), d.discontinuities[static_cast<std::size_t>(other)].name.c_str(),
+                                          i, j);
+            model.cell_cut_by[cell] = static_cast<int>(k);
+          } else if (lo < 0.0 && q.kind != PlateDiscontinuity::Kind::crack) {  // wholly inside
+            model.cell_material[cell] = q.kind == PlateDiscontinuity::Kind::hole ? -1 : 1 + static_cast<int>(k);
+          }
+        }
+        if (model.cell_cut_by[cell] >= 0) ++model.cut_cells;
+      }
+    if (model.cut_cells > d.max_cut_cells)
+      return BuildResult::failure(Code::capacity, "max_cut_cells: the discontinuities cut %d cells, more than %d",
+                                  model.cut_cells, d.max_cut_cells);
+    // Enriched nodes. A crack's (shifted Heaviside): the node's support has
+    // material on both sides. An inclusion's (ridge): the node is a corner of a
+    // cell it cuts. A function that would vanish identically gets no unknown.
+    model.node_enrichment.assign(static_cast<std::size_t>(2 * nodes), -1);
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        const int n = j * (nx + 1) + i;
+        for (std::size_t k = 0; k < ndisc; ++k) {
+          const PlateDiscontinuity& q = d.discontinuities[k];
+          if (q.kind == PlateDiscontinuity::Kind::hole || !q.enrich) continue;
+          bool plus = false, minus = false, cut = false;
+          for (int cj = std::max(j - 1, 0); cj <= std::min(j, ny - 1); ++cj)
+            for (int ci = std::max(i - 1, 0); ci <= std::min(i, nx - 1); ++ci) {
+              const auto cell = static_cast<std::size_t>(cj * nx + ci);
+              int en[4];
+              cell_nodes(nx, ci, cj, en);
+              if (model.cell_material[cell] < 0) continue;  // no material in the cell
+              if (model.cell_cut_by[cell] == static_cast<int>(k)) {
+                cut = plus = minus = true;
+              } else {
+                (uncut_side(model, static_cast<int>(k), en) > 0 ? plus : minus) = true;
+              }
+            }
+          const bool enrich = q.kind == PlateDiscontinuity::Kind::crack ? (plus && minus) : cut;
+          if (!enrich) continue;
+          const auto slot = static_cast<std::size_t>(2 * n);
+          if (model.node_enrichment[slot] < 0) {
+            model.node_enrichment[slot] = static_cast<int>(k);
+          } else if (model.node_enrichment[slot + 1] < 0) {
+            model.node_enrichment[slot + 1] = static_cast<int>(k);
+          } else {
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%zu: the node at (%g, %g) would be enriched by more than two "
+                                        "discontinuities (they come within a cell of one another; refine the mesh)",
+                                        k, xs(i), ys(j));
+          }
+        }
+      }
+  }
 
   // ---- constraints ----------------------------------------------------------
   // Nodes of an edge, in order along it.
@@ -356,18 +957,56 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     }
   }
 
-  // ---- unknowns: node by node along the shorter side (a narrow profile) -----
+  // A node whose support holds no material (wholly in a hole) has no unknowns.
+  std::vector<char> has_material(static_cast<std::size_t>(nodes), 1);
+  if (ndisc > 0)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        bool any = false;
+        for (int cj = std::max(j - 1, 0); cj <= std::min(j, ny - 1); ++cj)
+          for (int ci = std::max(i - 1, 0); ci <= std::min(i, nx - 1); ++ci)
+            any = any || model.cell_material[static_cast<std::size_t>(cj * nx + ci)] >= 0;
+        has_material[static_cast<std::size_t>(j * (nx + 1) + i)] = any ? 1 : 0;
+      }
+  // Supports hold the enrichment of their nodes in the fixed components too.
+  std::vector<char> enriched_held(ndisc > 0 ? 2 * n2 : 0, 0);
+  for (const PlateSupport& sp : d.supports)
+    if (ndisc > 0)
+      edge_nodes(sp.edge, [&](int n, double) {
+        for (int sl = 0; sl < 2; ++sl)
+          for (int c = 0; c < 2; ++c)
+            if (sp.fix[c]) enriched_held[static_cast<std::size_t>(2 * (2 * n + sl) + c)] = 1;
+      });
+
+  // ---- unknowns: node by node along the shorter side (a narrow profile), ----
+  // each node's enrichment right after its own components.
   model.node_dof.assign(n2, -1);
+  if (ndisc > 0) model.enriched_dof.assign(2 * n2, -1);
   int next = 0;
   const bool rows = nx <= ny;
   for (int r = 0; r < nodes; ++r) {
     const int i = rows ? r % (nx + 1) : r / (ny + 1);
     const int j = rows ? r / (nx + 1) : r % (ny + 1);
     const int n = j * (nx + 1) + i;
+    if (!has_material[static_cast<std::size_t>(n)]) continue;
     for (int c = 0; c < 2; ++c)
       if (held[static_cast<std::size_t>(2 * n + c)] == 0) model.node_dof[static_cast<std::size_t>(2 * n + c)] = next++;
+    if (ndisc == 0) continue;
+    for (int sl = 0; sl < 2; ++sl) {
+      if (model.node_enrichment[static_cast<std::size_t>(2 * n + sl)] < 0) continue;
+      for (int c = 0; c < 2; ++c) {
+        const auto e = static_cast<std::size_t>(2 * (2 * n + sl) + c);
+        if (enriched_held[e]) continue;
+        model.enriched_dof[e] = next++;
+        ++model.enriched_dofs;
+      }
+    }
   }
   model.dofs = next;
+  if (model.enriched_dofs > d.max_enriched_dofs)
+    return BuildResult::failure(Code::capacity,
+                                "max_enriched_dofs: the discontinuities need %d enriched unknowns, more than %d",
+                                model.enriched_dofs, d.max_enriched_dofs);
   if (d.max_dofs > 0 && model.dofs > d.max_dofs)
     return BuildResult::failure(Code::capacity, "max_dofs: the mesh needs %d unknowns, more than max_dofs = %d",
                                 model.dofs, d.max_dofs);
@@ -377,60 +1016,202 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   const auto nds = static_cast<std::size_t>(nd);
 
   // ---- profile and assembly ---------------------------------------------------
-  auto element_dofs = [&](int i, int j, int out[8]) {
-    int en[4];
-    cell_nodes(nx, i, j, en);
-    for (int a = 0; a < 4; ++a)
-      for (int c = 0; c < 2; ++c) out[2 * a + c] = model.node_dof[static_cast<std::size_t>(2 * en[a] + c)];
-  };
   std::vector<int> first(nds);
   for (int k = 0; k < nd; ++k) first[static_cast<std::size_t>(k)] = k;
+  CellView view;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      int ed[8];
-      element_dofs(i, j, ed);
+      make_view(model, i, j, view);
       int lowest = std::numeric_limits<int>::max();
-      for (int a : ed)
-        if (a >= 0) lowest = std::min(lowest, a);
-      for (int a : ed)
-        if (a >= 0) first[static_cast<std::size_t>(a)] = std::min(first[static_cast<std::size_t>(a)], lowest);
+      for (int f = 0; f < view.count; ++f)
+        for (int c = 0; c < 2; ++c)
+          if (view.dof[f][c] >= 0) lowest = std::min(lowest, view.dof[f][c]);
+      for (int f = 0; f < view.count; ++f)
+        for (int c = 0; c < 2; ++c)
+          if (view.dof[f][c] >= 0)
+            first[static_cast<std::size_t>(view.dof[f][c])] = std::min(first[static_cast<std::size_t>(view.dof[f][c])], lowest);
     }
   model.mass.resize(nd, first);
   model.stiffness.resize(nd, first);
   model.held_force.assign(nds, 0.0);
   model.node_mass.assign(static_cast<std::size_t>(nodes), 0.0);
-  const double* ke = model.element_stiffness;
-  const double* me = model.element_mass;
+  if (ndisc > 0) model.enrichment_mass.assign(n2, 0.0);
+  const double det_j = 0.25 * hx * hy;
+  using MatE = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 24, 24>;
+  MatE ke_general, me_general;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      int ed[8], en[4];
-      element_dofs(i, j, ed);
-      cell_nodes(nx, i, j, en);
-      for (int a = 0; a < 8; ++a) {
-        const int ra = ed[a];
+      make_view(model, i, j, view);
+      const int nf = 2 * view.count;
+      const double* ke = model.element_stiffness;
+      const double* me = model.element_mass;
+      int stride = 8;
+      if (!view.plain) {
+        // Integrated on the cell's quadrature (sub-triangles when cut).
+        ke_general.setZero(nf, nf);
+        me_general.setZero(nf, nf);
+        BasisAt basis;
+        for_each_point(model, view, [&](double xi, double eta, double w, int tri, int side, int material) {
+          evaluate(model, view, xi, eta, tri, side, basis);
+          const std::array<double, 9>& dd = model.material_elasticity[static_cast<std::size_t>(material)];
+          const double rho = model.material_density[static_cast<std::size_t>(material)];
+          const double wt = w * det_j * d.thickness;
+          Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 24> bm(3, nf);
+          Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1> nv(view.count);
+          bm.setZero();
+          for (int f = 0; f < view.count; ++f) {
+            bm(0, 2 * f) = basis.dx[f];
+            bm(1, 2 * f + 1) = basis.dy[f];
+            bm(2, 2 * f) = basis.dy[f];
+            bm(2, 2 * f + 1) = basis.dx[f];
+            nv(f) = basis.n[f];
+          }
+          Eigen::Matrix3d dmat;
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) dmat(r, c) = dd[static_cast<std::size_t>(3 * r + c)];
+          ke_general.noalias() += wt * (bm.transpose() * dmat * bm);
+          for (int f = 0; f < view.count; ++f) {
+            for (int g = 0; g < view.count; ++g) {
+              const double mfg = wt * rho * nv(f) * nv(g);
+              me_general(2 * f, 2 * g) += mfg;
+              me_general(2 * f + 1, 2 * g + 1) += mfg;
+            }
+            if (view.disc[f] < 0) {
+              model.node_mass[static_cast<std::size_t>(view.en[view.node[f]])] += wt * rho * nv(f);
+            } else {
+              const int en = view.en[view.node[f]];
+              const int sl = model.node_enrichment[static_cast<std::size_t>(2 * en)] == view.disc[f] ? 0 : 1;
+              model.enrichment_mass[static_cast<std::size_t>(2 * en + sl)] += wt * rho * nv(f);
+            }
+          }
+        });
+        // Exactly symmetric.
+        for (int r = 0; r < nf; ++r)
+          for (int c = r + 1; c < nf; ++c) {
+            ke_general(c, r) = ke_general(r, c);
+            me_general(c, r) = me_general(r, c);
+          }
+        ke = ke_general.data();  // column-major = row-major for a symmetric matrix
+        me = me_general.data();
+        stride = nf;
+      }
+      for (int a = 0; a < nf; ++a) {
+        const int ra = view.dof[a / 2][a % 2];
         if (ra < 0) continue;
         for (int b = 0; b <= a; ++b) {
-          const int rb = ed[b];
+          const int rb = view.dof[b / 2][b % 2];
           if (rb < 0) continue;
-          model.stiffness.add(ra, rb, ke[a * 8 + b]);
-          model.mass.add(ra, rb, me[a * 8 + b]);
+          model.stiffness.add(ra, rb, ke[a * stride + b]);
+          model.mass.add(ra, rb, me[a * stride + b]);
         }
-        for (int b = 0; b < 8; ++b)
-          if (ed[b] < 0) {
-            const double g = model.node_held[static_cast<std::size_t>(2 * en[b / 2] + b % 2)];
-            if (g != 0.0) model.held_force[static_cast<std::size_t>(ra)] -= ke[a * 8 + b] * g;
+        for (int b = 0; b < nf; ++b)
+          if (view.dof[b / 2][b % 2] < 0) {
+            const double g = view.held[b / 2][b % 2];
+            if (g != 0.0) model.held_force[static_cast<std::size_t>(ra)] -= ke[a * stride + b] * g;
           }
       }
-      // ρ t ∫ N_a dA: the x rows' sums of the element mass.
-      for (int a = 0; a < 4; ++a) {
-        double s = 0.0;
-        for (int b = 0; b < 4; ++b) s += me[(2 * a) * 8 + 2 * b];
-        model.node_mass[static_cast<std::size_t>(en[a])] += s;
-      }
+      if (view.plain)
+        // ρ t ∫ N_a dA: the x rows' sums of the element mass.
+        for (int a = 0; a < 4; ++a) {
+          double sum = 0.0;
+          for (int b = 0; b < 4; ++b) sum += me[(2 * a) * 8 + 2 * b];
+          model.node_mass[static_cast<std::size_t>(view.en[a])] += sum;
+        }
     }
+
+  // ---- tied crack faces: penalty k [u]·[u] on the zero of the level set --------
+  if (ndisc > 0) {
+    const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
+    const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        int en[4];
+        cell_nodes(nx, i, j, en);
+        if (model.cell_material[static_cast<std::size_t>(j * nx + i)] < 0) continue;
+        for (std::size_t k = 0; k < ndisc; ++k) {
+          const PlateDiscontinuity& q = d.discontinuities[k];
+          if (q.kind != PlateDiscontinuity::Kind::crack || q.faces == PlateDiscontinuity::Faces::free) continue;
+          const bool unilateral = q.faces == PlateDiscontinuity::Faces::unilateral;
+          double phi[5], mean = 0.0;
+          for (int a = 0; a < 4; ++a) mean += (phi[a] = phi_at(model, static_cast<int>(k), en[a]));
+          phi[4] = 0.25 * mean;
+          // A face is counted once: by the sub-triangle on its negative side.
+          for (int t = 0; t < 4; ++t) {
+            Point2 tri[3];
+            sub_triangle(t, tri);
+            const double tp[3] = {phi[t], phi[(t + 1) % 4], phi[4]};
+            Point2 seg[2];
+            int found = 0;
+            bool neg = false, pos = false;
+            for (double v : tp) neg = neg || v < 0.0, pos = pos || v > 0.0;
+            if (!neg) continue;
+            for (int e = 0; e < 3 && found < 2; ++e) {
+              const int a = e, b = (e + 1) % 3;
+              if (tp[a] == 0.0) seg[found++] = tri[a];
+              if (found < 2 && ((tp[a] < 0.0 && tp[b] > 0.0) || (tp[a] > 0.0 && tp[b] < 0.0))) {
+                const double sc = tp[a] / (tp[a] - tp[b]);
+                seg[found++] = {tri[a][0] + sc * (tri[b][0] - tri[a][0]), tri[a][1] + sc * (tri[b][1] - tri[a][1])};
+              }
+            }
+            (void)pos;  // a crossing or two vertices on the zero: either way two points
+            if (found < 2) continue;
+            const double lx = (seg[1][0] - seg[0][0]) * 0.5 * hx, ly = (seg[1][1] - seg[0][1]) * 0.5 * hy;
+            const double length = std::hypot(lx, ly);
+            if (length == 0.0) continue;
+            // Normal: the gradient of the linear level set on this triangle (towards +).
+            const double x0 = tri[0][0], y0 = tri[0][1], x1 = tri[1][0], y1 = tri[1][1];
+            const double r0 = tp[0] - tp[2], r1 = tp[1] - tp[2], det = x0 * y1 - x1 * y0;
+            double gx = (r0 * y1 - r1 * y0) / det * (2.0 / hx), gy = (x0 * r1 - x1 * r0) / det * (2.0 / hy);
+            const double gl = std::hypot(gx, gy);
+            gx /= gl, gy /= gl;
+            for (int qp = 0; qp < 3; ++qp) {
+              const double xi = seg[0][0] + g3[qp] * (seg[1][0] - seg[0][0]);
+              const double eta = seg[0][1] + g3[qp] * (seg[1][1] - seg[0][1]);
+              PlateModel::FacePoint fp{};
+              for (int a = 0; a < 4; ++a) {
+                int sl = -1;
+                for (int s2 = 0; s2 < 2; ++s2)
+                  if (model.node_enrichment[static_cast<std::size_t>(2 * en[a] + s2)] == static_cast<int>(k)) sl = s2;
+                const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
+                for (int c = 0; c < 2; ++c) {
+                  fp.dof[2 * a + c] = sl < 0 ? -1 : model.enriched_dof[static_cast<std::size_t>(2 * (2 * en[a] + sl) + c)];
+                  const double jump = sl < 0 ? 0.0 : 2.0 * na;
+                  fp.normal[2 * a + c] = jump * (c == 0 ? gx : gy);
+                  fp.tangential[2 * a + c] = jump * (c == 0 ? gy : -gx);
+                }
+              }
+              fp.weight = d.thickness * length * w3[qp];
+              fp.k_normal = q.stiffness[0];
+              fp.k_tangential = unilateral ? 0.0 : q.stiffness[1];
+              fp.unilateral = unilateral;
+              model.face_points.push_back(fp);
+              if (unilateral) {
+                ++model.unilateral_points;
+                continue;
+              }
+              for (int a = 0; a < 8; ++a) {
+                if (fp.dof[a] < 0) continue;
+                for (int b = 0; b < 8; ++b) {
+                  if (fp.dof[b] < 0 || fp.dof[b] > fp.dof[a]) continue;
+                  model.stiffness.add(fp.dof[a], fp.dof[b],
+                                      fp.weight * (fp.k_normal * fp.normal[a] * fp.normal[b] +
+                                                   fp.k_tangential * fp.tangential[a] * fp.tangential[b]));
+                }
+              }
+            }
+          }
+        }
+      }
+  }
+
+  // M r, r = 1 on the standard unknowns, 0 on the enriched: the net force 1ᵀMa.
   model.mass_row_sums.assign(nds, 0.0);
   {
-    const std::vector<double> ones(nds, 1.0);
+    std::vector<double> ones(nds, 1.0);
+    if (ndisc > 0)
+      for (double& e2 : ones) e2 = 0.0;
+    for (std::size_t k = 0; k < n2; ++k)
+      if (model.node_dof[k] >= 0) ones[static_cast<std::size_t>(model.node_dof[k])] = 1.0;
     model.mass.multiply(ones.data(), model.mass_row_sums.data());
   }
 
@@ -481,15 +1262,86 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       f[static_cast<std::size_t>(dof)] += value;
       touched[static_cast<std::size_t>(dof)] = 1;
     };
+    auto add_dof = [&](int dof, double value) {
+      if (dof < 0) return;
+      f[static_cast<std::size_t>(dof)] += value;
+      touched[static_cast<std::size_t>(dof)] = 1;
+    };
+    // Every function of cell view at (xi, eta) on `side`, times a force.
+    auto add_basis = [&](const CellView& v, double xi, double eta, int tri, int side, const double force[2]) {
+      BasisAt basis;
+      evaluate(model, v, xi, eta, tri, side, basis);
+      for (int fn = 0; fn < v.count; ++fn)
+        for (int c = 0; c < 2; ++c)
+          if (basis.n[fn] != 0.0) add_dof(v.dof[fn][c], basis.n[fn] * force[c]);
+    };
     if (d.self_weight) {
       for (int n = 0; n < nodes; ++n)
         for (int c = 0; c < 2; ++c)
           if (d.gravity[c] != 0.0) add(n, c, model.node_mass[static_cast<std::size_t>(n)] * d.gravity[c]);
+      if (ndisc > 0)
+        for (std::size_t e2 = 0; e2 < n2; ++e2)
+          for (int c = 0; c < 2; ++c)
+            if (d.gravity[c] != 0.0)
+              add_dof(model.enriched_dof[2 * e2 + static_cast<std::size_t>(c)], model.enrichment_mass[e2] * d.gravity[c]);
       flush(-1);
     }
     for (std::size_t l = 0; l < d.loads.size(); ++l) {
       const PlateLoad& ld = d.loads[l];
-      if (ld.kind == PlateLoad::Kind::edge_traction) {
+      if (ld.kind == PlateLoad::Kind::edge_traction && ndisc > 0) {
+        // Along each cell edge of the domain's edge, split where the cutting
+        // level set crosses it; each piece on its side (by its end off the
+        // zero), 3-point Gauss, the material's part only.
+        const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
+        const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+        const bool vertical = ld.edge == PlateEdge::left || ld.edge == PlateEdge::right;
+        const int count = vertical ? ny : nx;
+        const double h = vertical ? hy : hx;
+        // Parent edge: the fixed coordinate, the node pair (from, to) along increasing coordinate, its sub-triangle.
+        const int tri = ld.edge == PlateEdge::bottom ? 0 : ld.edge == PlateEdge::right ? 1 : ld.edge == PlateEdge::top ? 2 : 3;
+        const int from = ld.edge == PlateEdge::bottom ? 0 : ld.edge == PlateEdge::right ? 1 : ld.edge == PlateEdge::top ? 3 : 0;
+        const int to = ld.edge == PlateEdge::bottom ? 1 : ld.edge == PlateEdge::right ? 2 : ld.edge == PlateEdge::top ? 2 : 3;
+        for (int e2 = 0; e2 < count; ++e2) {
+          const int ci = vertical ? (ld.edge == PlateEdge::left ? 0 : nx - 1) : e2;
+          const int cj = vertical ? e2 : (ld.edge == PlateEdge::bottom ? 0 : ny - 1);
+          make_view(model, ci, cj, view);
+          double breaks[3] = {0.0, 1.0, 1.0};
+          int pieces = 1;
+          if (view.cut >= 0) {
+            const double pa = view.phi[from], pb = view.phi[to];
+            if ((pa < 0.0 && pb > 0.0) || (pa > 0.0 && pb < 0.0)) {
+              breaks[1] = pa / (pa - pb);
+              pieces = 2;
+            }
+          }
+          for (int pc = 0; pc < pieces; ++pc) {
+            const double s0 = breaks[pc], s1 = breaks[pc + 1];
+            int side = 1;
+            if (view.cut >= 0) {
+              // By membership: the piece's end node off the zero.
+              const double pa = view.phi[from], pb = view.phi[to];
+              side = pieces == 2 ? xfem::side_of(pc == 0 ? pa : pb) : (pa < 0.0 || pb < 0.0 ? -1 : 1);
+            }
+            if (material_of(model, view, side) < 0) continue;
+            for (int qp = 0; qp < 3; ++qp) {
+              const double sp = s0 + g3[qp] * (s1 - s0);
+              const double xi = kXi[from] + sp * (kXi[to] - kXi[from]);
+              const double eta = kEta[from] + sp * (kEta[to] - kEta[from]);
+              const double scale = w3[qp] * (s1 - s0) * h * d.thickness;
+              const double force[2] = {scale * ld.value[0], scale * ld.value[1]};
+              add_basis(view, xi, eta, tri, side, force);
+            }
+          }
+        }
+      } else if (ld.kind == PlateLoad::Kind::point_force && ndisc > 0) {
+        int ci = 0, cj = 0;
+        double xi = 0.0, eta = 0.0;
+        locate_axis(d.min[0], d.max[0], nx, ld.at[0], ci, xi);
+        locate_axis(d.min[1], d.max[1], ny, ld.at[1], cj, eta);
+        make_view(model, ci, cj, view);
+        const int side = point_side(view, xi, eta);
+        if (material_of(model, view, side) >= 0) add_basis(view, xi, eta, triangle_of(xi, eta), side, ld.value);
+      } else if (ld.kind == PlateLoad::Kind::edge_traction) {
         const bool vertical = ld.edge == PlateEdge::left || ld.edge == PlateEdge::right;
         const int count = vertical ? ny : nx;
         double prev = 0.0;
@@ -537,20 +1389,52 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
 
   if (d.analysis == PlateDesc::Analysis::statics) {
     // K u = f with every load at its amplitude (shape step: 1; none: 0).
-    if (!model.stiffness_factor.factor(model.stiffness) ||
-        !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot()))
+    if (model.unilateral_points == 0 && (!model.stiffness_factor.factor(model.stiffness) ||
+        !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot())))
       return BuildResult::failure(Code::invalid_argument,
                                   "supports: the plate is not held against rigid motion (its stiffness is singular); "
                                   "a static analysis needs supports or prescribed nodes that stop %s",
                                   "translation and rotation");
     double* u = state.u.data();
-    for (std::size_t k = 0; k < nds; ++k) u[k] = model.held_force[k];
-    for (std::size_t e2 = 0; e2 < model.load_dof.size(); ++e2) {
-      const int l = model.load_of[e2];
-      const double s = l < 0 || d.loads[static_cast<std::size_t>(l)].shape == PlateLoadShape::step ? 1.0 : 0.0;
-      u[model.load_dof[e2]] += model.load_value[e2] * s;
+    auto solve = [&] {
+      for (std::size_t k = 0; k < nds; ++k) u[k] = model.held_force[k];
+      for (std::size_t e2 = 0; e2 < model.load_dof.size(); ++e2) {
+        const int l = model.load_of[e2];
+        const double s = l < 0 || d.loads[static_cast<std::size_t>(l)].shape == PlateLoadShape::step ? 1.0 : 0.0;
+        u[model.load_dof[e2]] += model.load_value[e2] * s;
+      }
+      model.stiffness_factor.solve(u);
+    };
+    if (model.unilateral_points == 0) {
+      solve();
+    } else {
+      // Unilateral faces: start with every point closed, solve, open the
+      // points whose faces separate (and close those that interpenetrate),
+      // until the set repeats.
+      const std::size_t points = model.face_points.size();
+      std::vector<char> active(points, 0), updated(points, 0);
+      for (std::size_t p = 0; p < points; ++p) active[p] = model.face_points[p].unilateral ? 1 : 0;
+      bool settled = false;
+      for (int iteration = 0; iteration < 64 && !settled; ++iteration) {
+        xfem::SymmetricBand k_active = model.stiffness;
+        for (std::size_t p = 0; p < points; ++p)
+          if (active[p]) detail::add_face_penalty(k_active, model.face_points[p], 1.0);
+        if (!model.stiffness_factor.factor(k_active) ||
+            !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot()))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "supports: the plate is not held against rigid motion once its unilateral "
+                                      "crack faces %s (its stiffness is singular)",
+                                      "open");
+        solve();
+        for (std::size_t p = 0; p < points; ++p)
+          updated[p] = model.face_points[p].unilateral && detail::face_gap(model.face_points[p], u) < 0.0 ? 1 : 0;
+        settled = updated == active;
+        active.swap(updated);
+      }
+      if (!settled)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities: the unilateral faces' active set did not settle in %d solves", 64);
     }
-    model.stiffness_factor.solve(u);
     model.built = true;
     if (!all_finite(state.u)) {
       model.built = false;
@@ -573,6 +1457,15 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       eff.add(model.damper_dof[k], model.damper_dof[k], fac1 * model.damper_coeff[k]);
     if (!model.effective_factor.factor(eff))
       return BuildResult::failure(Code::invalid_argument, "dt: the effective stiffness is not positive definite");
+    if (model.unilateral_points > 0) {
+      // The step re-factors eff + the active penalties into the workspace's
+      // factor, whose storage is sized here (no face active).
+      model.base_effective = eff;
+      workspace.effective = eff;
+      workspace.factor = model.effective_factor;
+      workspace.active.assign(model.face_points.size(), 0);
+      workspace.factored_active.assign(model.face_points.size(), 0);
+    }
   }
   model.built = true;
   const StepStatus s = plate_initial_acceleration(model, state, workspace);
@@ -676,17 +1569,45 @@ bool locate(const PlateModel& m, double x, double y, int& i, int& j, double& xi,
          locate_axis(d.min[1], d.max[1], d.cells[1], y, j, eta);
 }
 
+/// The value of function f's component c in field u (held: its displacement, or 0 for rates).
+inline double coefficient(const CellView& v, const double* u, bool displacement, int f, int c) {
+  const int dof = v.dof[f][c];
+  return dof >= 0 ? u[dof] : (displacement ? v.held[f][c] : 0.0);
+}
+
 double field_at(const PlateModel& m, const std::vector<double>& f, bool displacement, double x, double y, int c) {
   const PlateDesc& d = m.desc;
   int i = 0, j = 0;
   double xi = 0.0, eta = 0.0;
   if (c < 0 || c > 1 || !locate(m, x, y, i, j, xi, eta)) return std::numeric_limits<double>::quiet_NaN();
-  int en[4];
-  cell_nodes(d.cells[0], i, j, en);
+  if (m.node_phi.empty()) {
+    int en[4];
+    cell_nodes(d.cells[0], i, j, en);
+    double s = 0.0;
+    for (int a = 0; a < 4; ++a)
+      s += 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]) * nodal(m, f.data(), displacement, en[a], c);
+    return s;
+  }
+  CellView v;
+  make_view(m, i, j, v);
+  const int side = material_side(m, v, xi, eta);
+  if (material_of(m, v, side) < 0) return std::numeric_limits<double>::quiet_NaN();
+  BasisAt basis;
+  evaluate(m, v, xi, eta, triangle_of(xi, eta), side, basis);
   double s = 0.0;
-  for (int a = 0; a < 4; ++a)
-    s += 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]) * nodal(m, f.data(), displacement, en[a], c);
+  for (int fn = 0; fn < v.count; ++fn) s += basis.n[fn] * coefficient(v, f.data(), displacement, fn, c);
   return s;
+}
+
+/// ε at a point of a cell from the basis there.
+void strain_of(const CellView& v, const BasisAt& basis, const double* u, double eps[3]) {
+  eps[0] = eps[1] = eps[2] = 0.0;
+  for (int f = 0; f < v.count; ++f) {
+    const double ux = coefficient(v, u, true, f, 0), uy = coefficient(v, u, true, f, 1);
+    eps[0] += basis.dx[f] * ux;
+    eps[1] += basis.dy[f] * uy;
+    eps[2] += basis.dy[f] * ux + basis.dx[f] * uy;
+  }
 }
 
 /// ε = (ε_xx, ε_yy, γ_xy) at parent point (xi, eta) of cell (i, j).
@@ -721,36 +1642,125 @@ double plate_stress(const PlateModel& m, const PlateState& s, double x, double y
   double xi = 0.0, eta = 0.0;
   if (component < 0 || component > 2 || !locate(m, x, y, i, j, xi, eta)) return std::numeric_limits<double>::quiet_NaN();
   double eps[3];
-  strain_at(m, s.u.data(), i, j, xi, eta, eps);
-  const double(&dm)[3][3] = m.elasticity;
-  return dm[component][0] * eps[0] + dm[component][1] * eps[1] + dm[component][2] * eps[2];
+  if (m.node_phi.empty()) {
+    strain_at(m, s.u.data(), i, j, xi, eta, eps);
+    const double(&dm)[3][3] = m.elasticity;
+    return dm[component][0] * eps[0] + dm[component][1] * eps[1] + dm[component][2] * eps[2];
+  }
+  CellView v;
+  make_view(m, i, j, v);
+  const int side = material_side(m, v, xi, eta);
+  const int material = material_of(m, v, side);
+  if (material < 0) return std::numeric_limits<double>::quiet_NaN();
+  BasisAt basis;
+  evaluate(m, v, xi, eta, triangle_of(xi, eta), side, basis);
+  strain_of(v, basis, s.u.data(), eps);
+  const std::array<double, 9>& dd = m.material_elasticity[static_cast<std::size_t>(material)];
+  return dd[static_cast<std::size_t>(3 * component)] * eps[0] + dd[static_cast<std::size_t>(3 * component + 1)] * eps[1] +
+         dd[static_cast<std::size_t>(3 * component + 2)] * eps[2];
+}
+
+double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, double x, double y, int component) {
+  const PlateDesc& d = m.desc;
+  int i = 0, j = 0;
+  double xi = 0.0, eta = 0.0;
+  if (crack < 0 || static_cast<std::size_t>(crack) >= d.discontinuities.size() ||
+      d.discontinuities[static_cast<std::size_t>(crack)].kind != PlateDiscontinuity::Kind::crack || component < 0 ||
+      component > 1 || !locate(m, x, y, i, j, xi, eta))
+    return std::numeric_limits<double>::quiet_NaN();
+  // [u] = Σ_a N_a (H⁺ − H⁻) a_a = 2 Σ_a N_a a_a over the crack's Heaviside unknowns.
+  CellView v;
+  make_view(m, i, j, v);
+  double jump[2] = {0.0, 0.0};
+  for (int f = 0; f < v.count; ++f) {
+    if (v.disc[f] != crack) continue;
+    const int a = v.node[f];
+    const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
+    for (int c = 0; c < 2; ++c) jump[c] += 2.0 * na * coefficient(v, s.u.data(), true, f, c);
+  }
+  Point2 closest{}, dir{};
+  xfem::polyline_closest(d.discontinuities[static_cast<std::size_t>(crack)].points, {x, y}, closest, dir);
+  // Normal: left of the direction (towards the positive side).
+  return component == 0 ? -dir[1] * jump[0] + dir[0] * jump[1] : dir[0] * jump[0] + dir[1] * jump[1];
+}
+
+int plate_point_region(const PlateDesc& d, double x, double y, double tolerance) {
+  int ci = 0, cj = 0;
+  double xi = 0.0, eta = 0.0;
+  if (!locate_axis(d.min[0], d.max[0], d.cells[0], x, ci, xi) || !locate_axis(d.min[1], d.max[1], d.cells[1], y, cj, eta))
+    return -1;
+  int region = 0;
+  for (const PlateDiscontinuity& q : d.discontinuities) {
+    const double phi = q.kind == PlateDiscontinuity::Kind::crack
+                           ? std::fabs(xfem::polyline_level_set(q.points, {x, y}))
+                           : level_set(q, q.points, {x, y});
+    if (std::fabs(phi) <= tolerance) return 1;
+    if (q.kind == PlateDiscontinuity::Kind::hole && phi < 0.0) region = 2;
+  }
+  return region;
 }
 
 PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   PlateEnergy e;
   if (!m.built) return e;
   e.kinetic = 0.5 * m.mass.quadratic(s.v.data());
-  // ½ t ∫ εᵀDε dA by the 2×2 Gauss rule (exact for the rectangle), from the
-  // strains: a rigid motion has exactly zero strain, so no energy to lose in
-  // the cancellation of uᵀKu.
+  // ½ t ∫ εᵀDε dA from the strains, cell by cell on the cell's quadrature: a
+  // rigid motion has exactly zero strain, so no energy to lose in the
+  // cancellation of uᵀKu.
   const double g = 1.0 / std::sqrt(3.0);
   const double w = 0.5 * m.desc.thickness * 0.25 * m.cell_size[0] * m.cell_size[1];
   const double(&dm)[3][3] = m.elasticity;
   double elastic = 0.0;
+  CellView v;
   for (int j = 0; j < m.desc.cells[1]; ++j)
-    for (int i = 0; i < m.desc.cells[0]; ++i)
-      for (int gp = 0; gp < 4; ++gp) {
-        double eps[3];
-        strain_at(m, s.u.data(), i, j, gp == 0 || gp == 3 ? -g : g, gp < 2 ? -g : g, eps);
-        double q = 0.0;
-        for (int r = 0; r < 3; ++r) q += eps[r] * (dm[r][0] * eps[0] + dm[r][1] * eps[1] + dm[r][2] * eps[2]);
-        elastic += w * q;
+    for (int i = 0; i < m.desc.cells[0]; ++i) {
+      make_view(m, i, j, v);
+      if (v.plain) {
+        for (int gp = 0; gp < 4; ++gp) {
+          double eps[3];
+          strain_at(m, s.u.data(), i, j, gp == 0 || gp == 3 ? -g : g, gp < 2 ? -g : g, eps);
+          double q = 0.0;
+          for (int r = 0; r < 3; ++r) q += eps[r] * (dm[r][0] * eps[0] + dm[r][1] * eps[1] + dm[r][2] * eps[2]);
+          elastic += w * q;
+        }
+        continue;
       }
+      for_each_point(m, v, [&](double xi, double eta, double wp, int tri, int side, int material) {
+        BasisAt basis;
+        evaluate(m, v, xi, eta, tri, side, basis);
+        double eps[3];
+        strain_of(v, basis, s.u.data(), eps);
+        const std::array<double, 9>& dd = m.material_elasticity[static_cast<std::size_t>(material)];
+        double q = 0.0;
+        for (int r = 0; r < 3; ++r)
+          q += eps[r] * (dd[static_cast<std::size_t>(3 * r)] * eps[0] + dd[static_cast<std::size_t>(3 * r + 1)] * eps[1] +
+                         dd[static_cast<std::size_t>(3 * r + 2)] * eps[2]);
+        elastic += w * wp * q;
+      });
+    }
+  for (const PlateModel::FacePoint& fp : m.face_points) {
+    double gn = 0.0, gt = 0.0;
+    for (int a = 0; a < 8; ++a)
+      if (fp.dof[a] >= 0) {
+        gn += fp.normal[a] * s.u[static_cast<std::size_t>(fp.dof[a])];
+        gt += fp.tangential[a] * s.u[static_cast<std::size_t>(fp.dof[a])];
+      }
+    if (fp.unilateral) gn = std::min(gn, 0.0);  // only closing is resisted
+    elastic += 0.5 * fp.weight * (fp.k_normal * gn * gn + fp.k_tangential * gt * gt);
+  }
   e.elastic = elastic;
   if (m.desc.self_weight)
     for (int n = 0; n < m.nodes; ++n)
-      for (int c = 0; c < 2; ++c)
+      for (int c = 0; c < 2; ++c) {
         e.potential -= m.node_mass[static_cast<std::size_t>(n)] * m.desc.gravity[c] * nodal(m, s.u.data(), true, n, c);
+        if (!m.enrichment_mass.empty())
+          for (int sl = 0; sl < 2; ++sl) {
+            const int dof = m.enriched_dof[static_cast<std::size_t>(2 * (2 * n + sl) + c)];
+            if (dof >= 0)
+              e.potential -= m.enrichment_mass[static_cast<std::size_t>(2 * n + sl)] * m.desc.gravity[c] *
+                             s.u[static_cast<std::size_t>(dof)];
+          }
+      }
   return e;
 }
 
@@ -765,7 +1775,14 @@ double plate_algorithmic_energy(const PlateModel& m, const PlateState& s) {
 double plate_momentum(const PlateModel& m, const PlateState& s, int component) {
   if (!m.built || component < 0 || component > 1) return std::numeric_limits<double>::quiet_NaN();
   double p = 0.0;
-  for (int n = 0; n < m.nodes; ++n) p += m.node_mass[static_cast<std::size_t>(n)] * nodal(m, s.v.data(), false, n, component);
+  for (int n = 0; n < m.nodes; ++n) {
+    p += m.node_mass[static_cast<std::size_t>(n)] * nodal(m, s.v.data(), false, n, component);
+    if (!m.enrichment_mass.empty())
+      for (int sl = 0; sl < 2; ++sl) {
+        const int dof = m.enriched_dof[static_cast<std::size_t>(2 * (2 * n + sl) + component)];
+        if (dof >= 0) p += m.enrichment_mass[static_cast<std::size_t>(2 * n + sl)] * s.v[static_cast<std::size_t>(dof)];
+      }
+  }
   return p;
 }
 
