@@ -368,7 +368,9 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   // Stage 3: contacts and forces at the trial state (the dashpots and the
   // springs see the kicked rates, as in the frictionless Verlet).
   w.eval_time = s.time + h;
+  const std::int64_t contacts_start = w.clock_ns != nullptr ? w.clock_ns() : 0;
   status |= granular_forces<D>(m, s, w, x1, v1, w_half, a1, alpha1, s.time + h, h);
+  if (w.clock_ns != nullptr) w.profile.contacts_ns += w.clock_ns() - contacts_start;
   // Stage 4: Verlet's final kick q' ← q' + h/2 q''(trial).
   if (verlet)
     for (const Column& c : cols)
