@@ -25,13 +25,14 @@ constexpr double kG = 9.81;
 /// origin tilted by theta (normal (−sin θ, cos θ)), pressed in by its static
 /// overlap m g cos θ / k so that no normal oscillation starts.
 template <int D>
-DemDesc<D> incline(double theta, double mu, double rolling, double zeta) {
+DemDesc<D> incline(double theta, double mu, double rolling, double zeta,
+                   DemIntegrator integrator = DemIntegrator::verlet) {
   DemDesc<D> d;
   d.dt = 1e-5;
   d.damping_ratio = zeta;
   d.friction = mu;
   d.rolling_friction = rolling;
-  d.integrator = DemIntegrator::verlet;
+  d.integrator = integrator;
   d.gravity[1] = -kG;
   ParticleDesc<D> p;
   p.mass = 1;
@@ -97,14 +98,17 @@ Slope run_slope(const DemDesc<D>& d, double theta, double t1, double t2) {
 
 // Below tan θ = μ (1 + m r²/I) (3μ disk, 3.5μ sphere) the particle rolls
 // without slip: a = g sin θ / (1 + I/(m r²)), ω = v / r. After the start-up
-// transient the motion is a constant acceleration, which Verlet integrates
-// exactly; what remains is the spring's stretch held by a growing force
+// transient the motion is a constant acceleration, which every integrator
+// that carries rotation (verlet, symplectic_euler, rk4) integrates exactly; what remains is the spring's stretch held by a growing force
 // (none: the friction force is constant) and round-off over 1e5 steps.
+constexpr DemIntegrator kRotating[] = {DemIntegrator::verlet, DemIntegrator::symplectic_euler, DemIntegrator::rk4};
+
 template <int D>
-void rolls_without_slip() {
+void rolls_without_slip(DemIntegrator integrator) {
   const double theta = 20 * kPi / 180, mu = 0.5;
   ASSERT_LT(std::tan(theta), mu * (1 + 1 / inertia_factor<D>()));
-  const Slope s = run_slope(incline<D>(theta, mu, 0, 0.5), theta, 0.2, 0.6);
+  const Slope s = run_slope(incline<D>(theta, mu, 0, 0.5, integrator), theta, 0.2, 0.6);
+  std::printf("%s ", integrator_name(integrator));
   const double a = kG * std::sin(theta) / (1 + inertia_factor<D>());
   std::printf("D=%d rolling: a %.12g (closed form %.12g), spin rate %.12g (a/r %.12g), slip %.3e m/s\n", D,
               s.acceleration, a, s.spin_rate, a / 0.05, s.slip);
@@ -113,16 +117,21 @@ void rolls_without_slip() {
   // v = ω r up to the spring's stick-slip stretch rate (0 at constant force).
   EXPECT_LT(std::fabs(s.slip), 1e-9);
 }
-TEST(Incline, DiskRollsWithoutSlipBelowThreeMu) { rolls_without_slip<2>(); }
-TEST(Incline, SphereRollsWithoutSlipBelowThreePointFiveMu) { rolls_without_slip<3>(); }
+TEST(Incline, DiskRollsWithoutSlipBelowThreeMu) {
+  for (DemIntegrator integrator : kRotating) rolls_without_slip<2>(integrator);
+}
+TEST(Incline, SphereRollsWithoutSlipBelowThreePointFiveMu) {
+  for (DemIntegrator integrator : kRotating) rolls_without_slip<3>(integrator);
+}
 
 // Above it the contact slides: a = g (sin θ − μ cos θ), and the friction
 // torque μ m g cos θ r spins it up at α = μ m g cos θ r / I.
 template <int D>
-void slides_and_spins_up() {
+void slides_and_spins_up(DemIntegrator integrator) {
   const double theta = 40 * kPi / 180, mu = 0.2;
   ASSERT_GT(std::tan(theta), mu * (1 + 1 / inertia_factor<D>()));
-  const Slope s = run_slope(incline<D>(theta, mu, 0, 0.5), theta, 0.2, 0.6);
+  const Slope s = run_slope(incline<D>(theta, mu, 0, 0.5, integrator), theta, 0.2, 0.6);
+  std::printf("%s ", integrator_name(integrator));
   const double a = kG * (std::sin(theta) - mu * std::cos(theta));
   const double alpha = mu * kG * std::cos(theta) * 0.05 / (inertia_factor<D>() * 0.05 * 0.05);
   std::printf("D=%d sliding: a %.12g (closed form %.12g), spin-up %.12g (closed form %.12g)\n", D, s.acceleration, a,
@@ -131,8 +140,12 @@ void slides_and_spins_up() {
   EXPECT_NEAR(s.spin_rate, alpha, 1e-9 * alpha);
   EXPECT_GT(s.slip, 0.0);  // still sliding
 }
-TEST(Incline, DiskSlidesAboveThreeMuWithTheClosedFormSpinUp) { slides_and_spins_up<2>(); }
-TEST(Incline, SphereSlidesAboveThreePointFiveMuWithTheClosedFormSpinUp) { slides_and_spins_up<3>(); }
+TEST(Incline, DiskSlidesAboveThreeMuWithTheClosedFormSpinUp) {
+  for (DemIntegrator integrator : kRotating) slides_and_spins_up<2>(integrator);
+}
+TEST(Incline, SphereSlidesAboveThreePointFiveMuWithTheClosedFormSpinUp) {
+  for (DemIntegrator integrator : kRotating) slides_and_spins_up<3>(integrator);
+}
 
 // μ = 0 with rolling resistance on (so the particles rotate): no tangential
 // force, so the particle slides at g sin θ and never spins.
@@ -157,11 +170,11 @@ struct Impact {
   double kinetic_before, kinetic_after;
 };
 template <int D>
-Impact<D> oblique_impact(double vt, double vn, double mu, double dt) {
+Impact<D> oblique_impact(double vt, double vn, double mu, double dt, DemIntegrator integrator) {
   DemDesc<D> d;
   d.dt = dt;
   d.friction = mu;
-  d.integrator = DemIntegrator::verlet;
+  d.integrator = integrator;
   ParticleDesc<D> p;
   p.mass = 1;
   p.radius = 0.05;
@@ -204,40 +217,52 @@ Impact<D> oblique_impact(double vt, double vn, double mu, double dt) {
 // evaluation, so Δv_t = μ (1 + e) v_n and ω = μ (1 + e) v_n m R / I
 // (5 μ (1 + e) v_n / (2R) for a sphere, 2 μ (1 + e) v_n / R for a disk), with
 // e the measured rebound; the two kicks weigh both forces alike, so the
-// relation holds to round-off. e itself is 1 up to Verlet's energy error
-// O((ω h)²) = 1e-6 (ω = 1e3 rad/s, h = 1e-6 s).
+// relation holds to round-off (every integrator weighs both forces alike at
+// each evaluation). e itself is 1 up to the integrator's energy error over
+// the contact: O((ω h)²) = 1e-6 for verlet and rk4, O(ω h) = 1e-3 for
+// symplectic Euler (ω = 1e3 rad/s, h = 1e-6 s).
+double energy_bound(DemIntegrator integrator) { return integrator == DemIntegrator::symplectic_euler ? 1e-3 : 1e-6; }
+
 template <int D>
-void gross_sliding_impact() {
+void gross_sliding_impact(DemIntegrator integrator) {
   const double vn = 1.0, vt = 5.0, mu = 0.3;
-  const Impact<D> r = oblique_impact<D>(vt, vn, mu, 1e-6);
+  const Impact<D> r = oblique_impact<D>(vt, vn, mu, 1e-6, integrator);
+  std::printf("%s ", integrator_name(integrator));
   const double e = r.vn_after / vn;
   const double dvt = r.vt_before - r.vt_after;
   const double omega = mu * (1 + e) * vn * 0.05 / (inertia_factor<D>() * 0.05 * 0.05);
   std::printf("D=%d oblique impact: e %.12f, dv_t %.12g (mu (1+e) v_n = %.12g), spin %.12g (closed form %.12g)\n", D,
               e, dvt, mu * (1 + e) * vn, r.spin, -omega);
-  EXPECT_NEAR(e, 1.0, 1e-6);
+  EXPECT_NEAR(e, 1.0, energy_bound(integrator));
   EXPECT_NEAR(dvt, mu * (1 + e) * vn, 1e-12);
   EXPECT_NEAR(r.spin, -omega, 1e-12 * omega);  // clockwise: the spin of rolling in +x
 }
-TEST(ObliqueImpact, SphereGrossSlidingMatchesMuOnePlusEVn) { gross_sliding_impact<3>(); }
-TEST(ObliqueImpact, DiskGrossSlidingMatchesMuOnePlusEVn) { gross_sliding_impact<2>(); }
+TEST(ObliqueImpact, SphereGrossSlidingMatchesMuOnePlusEVn) {
+  for (DemIntegrator integrator : kRotating) gross_sliding_impact<3>(integrator);
+}
+TEST(ObliqueImpact, DiskGrossSlidingMatchesMuOnePlusEVn) {
+  for (DemIntegrator integrator : kRotating) gross_sliding_impact<2>(integrator);
+}
 
 // e = 1 over incidence angles from grazing to head-on, through sticking and
 // sliding: the impact never ends with more kinetic energy (translation and
 // rotation) than it started with. The undamped normal spring returns its
-// energy up to Verlet's O((ω h)²) = 1e-6 relative (the bound allowed); the
+// energy up to the integrator's error (energy_bound, the bound allowed); the
 // tangential spring only stores or dissipates.
 template <int D>
-void impact_never_gains_energy() {
+void impact_never_gains_energy(DemIntegrator integrator) {
   for (double angle_deg = 5; angle_deg < 90; angle_deg += 10) {
     const double angle = angle_deg * kPi / 180;  // from the plane
-    const Impact<D> r = oblique_impact<D>(std::cos(angle), std::sin(angle), 0.3, 1e-6);
-    EXPECT_LE(r.kinetic_after, r.kinetic_before * (1 + 1e-6)) << "D=" << D << " angle " << angle_deg;
+    const Impact<D> r = oblique_impact<D>(std::cos(angle), std::sin(angle), 0.3, 1e-6, integrator);
+    EXPECT_LE(r.kinetic_after, r.kinetic_before * (1 + energy_bound(integrator)))
+        << "D=" << D << " angle " << angle_deg << " " << integrator_name(integrator);
   }
 }
 TEST(ObliqueImpact, SweepNeverGainsEnergy) {
-  impact_never_gains_energy<2>();
-  impact_never_gains_energy<3>();
+  for (DemIntegrator integrator : kRotating) {
+    impact_never_gains_energy<2>(integrator);
+    impact_never_gains_energy<3>(integrator);
+  }
 }
 
 // A particle at rest on a slope below the friction angle (tan θ < μ) stays at
@@ -294,7 +319,7 @@ TEST(RollingResistance, DiskDeceleratesAtTheClosedFormAndStops) {
 }
 
 /// Disks dropped into a box, with friction and rolling resistance.
-DemDesc<2> box_of_disks(int n, std::int32_t all_pairs_up_to) {
+DemDesc<2> box_of_disks(int n, std::int32_t all_pairs_up_to, DemIntegrator integrator = DemIntegrator::verlet) {
   DemDesc<2> d;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -303,7 +328,7 @@ DemDesc<2> box_of_disks(int n, std::int32_t all_pairs_up_to) {
   d.damping_ratio = 0.2;
   d.friction = 0.5;
   d.rolling_friction = 0.05;
-  d.integrator = DemIntegrator::verlet;
+  d.integrator = integrator;
   d.all_pairs_up_to = all_pairs_up_to;
   d.split_from = 100;
   const int columns = 10;
@@ -330,10 +355,13 @@ DemDesc<2> box_of_disks(int n, std::int32_t all_pairs_up_to) {
 // the tangential springs over by (i, j). A list of every pair (all_pairs,
 // never rebuilt) visits the touching pairs in the same order, so the two runs
 // agree bit for bit only if no record was lost or misplaced.
-TEST(ContactRecords, SurvivePairListRebuildsBitForBit) {
+// (rk4 rebuilds at its stages too, from the stored springs.)
+class ContactRecords : public ::testing::TestWithParam<DemIntegrator> {};
+
+TEST_P(ContactRecords, SurvivePairListRebuildsBitForBit) {
   DemWorld<2> grid, all;
-  ASSERT_TRUE(grid.build(box_of_disks(60, 0)).ok());
-  ASSERT_TRUE(all.build(box_of_disks(60, 64)).ok());
+  ASSERT_TRUE(grid.build(box_of_disks(60, 0, GetParam())).ok());
+  ASSERT_TRUE(all.build(box_of_disks(60, 64, GetParam())).ok());
   ASSERT_EQ(grid.model.features.broad_phase, BroadPhase::grid);
   ASSERT_EQ(all.model.features.broad_phase, BroadPhase::all_pairs);
   for (int k = 0; k < 20000; ++k) {
@@ -354,8 +382,8 @@ TEST(ContactRecords, SurvivePairListRebuildsBitForBit) {
 
 // Two workers, a snapshot taken half-way and restored into a fresh world, and
 // no allocation in any step: the same bits.
-TEST(ContactRecords, TwoWorkersSnapshotsAndNoAllocation) {
-  const DemDesc<2> d = box_of_disks(200, 0);
+TEST_P(ContactRecords, TwoWorkersSnapshotsAndNoAllocation) {
+  const DemDesc<2> d = box_of_disks(200, 0, GetParam());
   DemWorld<2> one, two, restored;
   ASSERT_TRUE(one.build(d).ok());
   ASSERT_TRUE(two.build(d).ok());
@@ -378,6 +406,9 @@ TEST(ContactRecords, TwoWorkersSnapshotsAndNoAllocation) {
   EXPECT_EQ(state_hash(restored.state), state_hash(one.state));
   EXPECT_GT(one.state.list_builds, 1);
 }
+
+INSTANTIATE_TEST_SUITE_P(Integrators, ContactRecords, ::testing::ValuesIn(kRotating),
+                         [](const auto& param_info) { return std::string(integrator_name(param_info.param)); });
 
 // Bad input is refused naming the key.
 TEST(FrictionInputs, RefusedNamingTheKey) {
@@ -406,7 +437,9 @@ TEST(FrictionInputs, RefusedNamingTheKey) {
   d.particles[0].angular_velocity = {INFINITY};
   refused(d, "particles[0].angular_velocity:");
   d = good;
-  d.integrator = DemIntegrator::rk4;
+  d.integrator = DemIntegrator::abm4;
+  refused(d, "integrator:");
+  d.integrator = DemIntegrator::abm4_events;
   refused(d, "integrator:");
   DemDesc<1> line;
   line.dt = 1e-5;

@@ -393,6 +393,9 @@ struct DemWorkspace {
   // the previous pair list's records while a rebuild merges them.
   std::array<std::vector<double>, spin_components(D)> w1, alpha1;
   std::array<std::vector<double>, angle_components(D)> angle1;
+  /// RK4's stage angular velocity and acceleration and their weighted sums (and the 2D angle's).
+  std::array<std::vector<double>, spin_components(D)> ws, alphas, sum_w;
+  std::array<std::vector<double>, angle_components(D)> angle_s, sum_angle;
   std::vector<std::int32_t> old_pair_i, old_pair_j;
   std::array<std::vector<double>, spring_components(D)> old_pair_xi;
 };

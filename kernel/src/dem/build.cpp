@@ -250,6 +250,9 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
       for (int k = 0; k < S; ++k) s.w[k][i] = desc.particles[i].angular_velocity[k];
     size_columns(s.angle, un);
     size_columns(w.angle1, un);
+    for (auto* c : {&w.ws, &w.alphas, &w.sum_w}) size_columns(*c, un);
+    size_columns(w.angle_s, un);
+    size_columns(w.sum_angle, un);
     size_columns(s.pair_xi, up);
     size_columns(s.plane_xi, un * desc.planes.size());
     if (m.features.broad_phase == BroadPhase::grid) {
@@ -397,10 +400,10 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       return BuildResult::failure(Code::invalid_argument,
                                   "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",
                                   desc.friction > 0 ? "friction" : "rolling_friction");
-    if (desc.integrator != DemIntegrator::verlet && desc.integrator != DemIntegrator::symplectic_euler)
+    if (desc.integrator == DemIntegrator::abm4 || desc.integrator == DemIntegrator::abm4_events)
       return BuildResult::failure(Code::invalid_argument,
-                                  "integrator: %s does not carry rotation and friction yet (verlet and "
-                                  "symplectic_euler do)",
+                                  "integrator: %s does not carry rotation and friction yet (verlet, "
+                                  "symplectic_euler and rk4 do)",
                                   integrator_name(desc.integrator));
   }
   if (desc.split_from < 0)

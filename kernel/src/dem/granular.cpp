@@ -12,6 +12,7 @@
 //      advanced by dt) and rolling, one law (dem/contact_law.hpp), planes then
 //      pairs in list order;
 //   4. integrate (second part): the final kick;
+//   (rk4: 1-3 for each of its four stages and for y_n+1, rk4_columns;)
 //   5. commit and books: the trial state becomes the state (a refused step
 //      leaves it untouched), time, the network bound, the finiteness check,
 //      the planes' impulses and the energy books.
@@ -155,11 +156,13 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
 }
 
 /// Stage 3: a = g + F/m and α = M/I at the state (x, v, ω); the tangential
-/// springs advanced by h (0: nothing accumulates, the state's own forces).
+/// springs advanced by h from the stored ones (0: nothing accumulates, the
+/// state's own forces). `keep`: the advanced springs become the stored ones
+/// (false: an intermediate stage of a multistage step, which reads them only).
 template <int D>
 StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
                            ConstColumns<D> v, const std::array<const double*, spin_components(D)>& spin, Columns<D> a,
-                           const std::array<double*, spin_components(D)>& alpha, double t, double h) {
+                           const std::array<double*, spin_components(D)>& alpha, double t, double h, bool keep = true) {
   constexpr int S = spin_components(D);
   const std::int32_t n = m.n;
   input_accelerations<D, true>(m, s, a, 0, n);
@@ -178,7 +181,8 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
       for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * m.plane_normal[p][d];
       const double overlap = m.radius[i] - gap;
       if (!(overlap > 0)) {
-        for (int d = 0; d < D; ++d) s.plane_xi[d][slot] = 0.0;  // apart: the contact forgets
+        if (keep)
+          for (int d = 0; d < D; ++d) s.plane_xi[d][slot] = 0.0;  // apart: the contact forgets
         continue;
       }
       double vi[D], wi[S], xi[D];
@@ -186,7 +190,7 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
       for (int d = 0; d < D; ++d) xi[d] = s.plane_xi[d][slot];
       const ContactResult<D> c = plane_contact<D>(m, i, p, overlap, s.plane_speed[p], vi, wi, h, xi);
       for (int d = 0; d < D; ++d) {
-        s.plane_xi[d][slot] = xi[d];
+        if (keep) s.plane_xi[d][slot] = xi[d];
         a[d][i] += (c.fn * c.normal[d] + c.ft[d]) * m.inv_mass[i];
       }
       for (int k = 0; k < S; ++k) alpha[k][i] += c.torque_j[k] * m.inv_inertia[i];
@@ -202,7 +206,8 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
     const double dist2 = separation<D>(x, i, j, dx);
     const double reach = m.radius[i] + m.radius[j];
     if (!(dist2 < reach * reach)) {
-      for (int d = 0; d < D; ++d) s.pair_xi[d][c] = 0.0;
+      if (keep)
+        for (int d = 0; d < D; ++d) s.pair_xi[d][c] = 0.0;
       continue;
     }
     double vi[D], wi[S], vj[D], wj[S], xi[D];
@@ -213,7 +218,7 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
         pair_contact<D>(m, i, j, s.pair_stiffness[c], s.pair_eta[c], dx, dist2, vi, vj, wi, wj, h, xi);
     if (r.coincident) status |= StepStatus::coincident_centres;
     for (int d = 0; d < D; ++d) {
-      s.pair_xi[d][c] = xi[d];
+      if (keep) s.pair_xi[d][c] = xi[d];
       const double f = r.fn * r.normal[d] + r.ft[d];  // on j
       a[d][i] -= f * m.inv_mass[i];
       a[d][j] += f * m.inv_mass[j];
@@ -266,26 +271,43 @@ StepStatus granular_broad_phase(const DemModel<D>& m, DemState<D>& s, DemWorkspa
   return StepStatus::ok;
 }
 
+/// Where an evaluation reads the state and writes its accelerations.
+template <int D>
+struct Views {
+  ConstColumns<D> x, v;
+  std::array<const double*, spin_components(D)> spin;
+  Columns<D> a;
+  std::array<double*, spin_components(D)> alpha;
+};
+
+/// Stages 2 and 3 at one state: broad phase at its positions, then its forces
+/// with the springs advanced by `offset` (kept or not), the contacts timed.
+template <int D>
+StepStatus evaluate_at(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, const Views<D>& at, double t,
+                       double offset, bool keep) {
+  const StepStatus built = granular_broad_phase<D>(m, s, w, at.x);
+  if (has(built, kStepNotTaken)) return built;
+  w.eval_time = t;
+  const std::int64_t start = w.clock_ns != nullptr ? w.clock_ns() : 0;
+  const StepStatus status =
+      built | granular_forces<D>(m, s, w, at.x, at.v, at.spin, at.a, at.alpha, t, offset, keep);
+  if (w.clock_ns != nullptr) w.profile.contacts_ns += w.clock_ns() - start;
+  return status;
+}
+
 template <int D>
 StepStatus granular_evaluate_current(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  constexpr int S = spin_components(D);
-  ConstColumns<D> x, v;
-  Columns<D> a;
-  std::array<const double*, S> spin;
-  std::array<double*, S> alpha;
+  Views<D> at;
   for (int d = 0; d < D; ++d) {
-    x[d] = s.x[d].data();
-    v[d] = s.v[d].data();
-    a[d] = s.hist_a[s.history_head][d].data();
+    at.x[d] = s.x[d].data();
+    at.v[d] = s.v[d].data();
+    at.a[d] = s.hist_a[s.history_head][d].data();
   }
-  for (int k = 0; k < S; ++k) {
-    spin[k] = s.w[k].data();
-    alpha[k] = s.alpha[k].data();
+  for (int k = 0; k < spin_components(D); ++k) {
+    at.spin[k] = s.w[k].data();
+    at.alpha[k] = s.alpha[k].data();
   }
-  const StepStatus built = granular_broad_phase<D>(m, s, w, x);
-  if (has(built, kStepNotTaken)) return built;
-  w.eval_time = s.time;
-  return built | granular_forces<D>(m, s, w, x, v, spin, a, alpha, s.time, 0.0);
+  return evaluate_at<D>(m, s, w, at, s.time, 0.0, true);
 }
 
 namespace {
@@ -301,8 +323,92 @@ struct Column {
   double* rate_half;  ///< the kicked rate the evaluation sees
   double* rate1;
   const double* acc;  ///< at the step start
-  const double* acc1; ///< at the trial state
+  double* acc1;       ///< at the trial state
+  // RK4: the stage's coordinate, rate and acceleration, and the weighted sums.
+  double *qs, *rs, *as, *sq, *sr;
 };
+
+/// Which of the columns' copies an evaluation reads: an RK4 stage (qs, rs),
+/// the kicked trial state of Verlet and symplectic Euler (q1, rate_half), or
+/// the end of an RK4 step (q1, rate1). The acceleration goes to `as`, or acc1.
+enum class Copy { stage, kicked, final };
+
+template <int D>
+Views<D> views_of(const Column* cols, Copy copy) {
+  Views<D> at;
+  for (int k = 0; k < D + spin_components(D); ++k) {
+    const Column& c = cols[k];
+    const double* rate = copy == Copy::stage ? c.rs : copy == Copy::kicked ? c.rate_half : c.rate1;
+    double* acc = copy == Copy::stage ? c.as : c.acc1;
+    if (k < D) {
+      at.x[k] = copy == Copy::stage ? c.qs : c.q1;
+      at.v[k] = rate;
+      at.a[k] = acc;
+    } else {
+      at.spin[k - D] = rate;
+      at.alpha[k - D] = acc;
+    }
+  }
+  return at;
+}
+
+/// Classical RK4 over the columns (S3 at y_n + S2 h/2, as the frictionless
+/// rk4), then f(y_n+1) into acc1. The stages read the stored springs advanced
+/// by their own offset (h/2, h/2, h) without keeping them; the evaluation of
+/// y_n+1 keeps its springs, advanced by h with y_n+1's sliding velocity.
+/// The planes' impulse h/6 (F1 + 2F2 + 2F3 + F4) is left in w.plane_weighted.
+template <int D>
+StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count) {
+  const std::int32_t n = m.n;
+  const double h = m.dt, half = 0.5 * h, sixth = h / 6.0, t = s.time;
+  std::vector<double>& ledger = w.plane_weighted;
+  const double* f0 = s.hist_plane_force[s.history_head].data();
+  for (int c = 0; c < count; ++c) {
+    const Column& k = cols[c];
+    for (std::int32_t i = 0; i < n; ++i) {
+      k.sr[i] = k.acc[i];
+      k.rs[i] = k.rate[i] + half * k.acc[i];
+    }
+    if (k.q != nullptr)
+      for (std::int32_t i = 0; i < n; ++i) {
+        k.sq[i] = k.rate[i];
+        k.qs[i] = k.q[i] + half * k.rate[i];
+      }
+  }
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = f0[p];
+  StepStatus status = evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::stage), t + half, half, false);
+  if (has(status, kStepNotTaken)) return status;
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
+  for (int stage = 3; stage <= 4; ++stage) {
+    const double step = stage == 3 ? half : h;
+    for (int c = 0; c < count; ++c) {
+      const Column& k = cols[c];
+      for (std::int32_t i = 0; i < n; ++i) {
+        const double rate = k.rs[i], acc = k.as[i];
+        if (k.q != nullptr) {
+          k.sq[i] += 2.0 * rate;
+          k.qs[i] = k.q[i] + step * rate;
+        }
+        k.sr[i] += 2.0 * acc;
+        k.rs[i] = k.rate[i] + step * acc;
+      }
+    }
+    status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::stage), t + step, step, false);
+    if (has(status, kStepNotTaken)) return status;
+    if (stage == 3)
+      for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
+  }
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
+  for (int c = 0; c < count; ++c) {
+    const Column& k = cols[c];
+    for (std::int32_t i = 0; i < n; ++i) {
+      if (k.q != nullptr) k.q1[i] = k.q[i] + sixth * (k.sq[i] + k.rs[i]);
+      k.rate1[i] = k.rate[i] + sixth * (k.sr[i] + k.as[i]);
+    }
+  }
+  status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
+  return status;
+}
 
 }  // namespace
 
@@ -328,59 +434,52 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   Column cols[D + S];
   for (int d = 0; d < D; ++d)
     cols[d] = {s.x[d].data(), w.x1[d].data(), s.v[d].data(), w.vs[d].data(), w.v1[d].data(),
-               s.hist_a[s.history_head][d].data(), w.a0[d].data()};
+               s.hist_a[s.history_head][d].data(), w.a0[d].data(), w.xs[d].data(), w.vs[d].data(),
+               w.as[d].data(), w.sum_x[d].data(), w.sum_v[d].data()};
   for (int k = 0; k < S; ++k)
     cols[D + k] = {nullptr, nullptr, s.w[k].data(), w.w1[k].data(), w.w1[k].data(), s.alpha[k].data(),
-                   w.alpha1[k].data()};
+                   w.alpha1[k].data(), nullptr, w.ws[k].data(), w.alphas[k].data(), nullptr, w.sum_w[k].data()};
   if constexpr (D == 2) {  // the angle turned: the coordinate of the 2D spin
     cols[D].q = s.angle[0].data();
     cols[D].q1 = w.angle1[0].data();
+    cols[D].qs = w.angle_s[0].data();
+    cols[D].sq = w.sum_angle[0].data();
   }
+  const bool rk4 = m.integrator == DemIntegrator::rk4;
   // The kicked rate: Verlet's translation keeps it apart (w.vs) from the final
   // one, its rotation kicks w1 in place; symplectic Euler's is final.
   if (!verlet)
     for (int d = 0; d < D; ++d) cols[d].rate_half = w.v1[d].data();
 
-  // Stage 1: kick and drift. Verlet: q' ← q' + h/2 q''; symplectic Euler: q' ← q' + h q''; then q ← q + h q'.
-  const double kick = verlet ? half : h;
-  for (const Column& c : cols) {
-    for (std::int32_t i = 0; i < n; ++i) c.rate_half[i] = c.rate[i] + kick * c.acc[i];
-    if (c.q != nullptr)
-      for (std::int32_t i = 0; i < n; ++i) c.q1[i] = c.q[i] + h * c.rate_half[i];
-  }
+  if (rk4) {
+    // Stages 1-4 in each of the four RK4 stages and the evaluation of y_n+1.
+    status |= rk4_columns<D>(m, s, w, cols, D + S);
+    if (has(status, kStepNotTaken)) return status;
+  } else {
+    // Stage 1: kick and drift. Verlet: q' ← q' + h/2 q''; symplectic Euler: q' ← q' + h q''; then q ← q + h q'.
+    const double kick = verlet ? half : h;
+    for (const Column& c : cols) {
+      for (std::int32_t i = 0; i < n; ++i) c.rate_half[i] = c.rate[i] + kick * c.acc[i];
+      if (c.q != nullptr)
+        for (std::int32_t i = 0; i < n; ++i) c.q1[i] = c.q[i] + h * c.rate_half[i];
+    }
 
-  ConstColumns<D> x1, v1;
-  Columns<D> a1;
-  std::array<const double*, S> w_half;
-  std::array<double*, S> alpha1;
-  for (int d = 0; d < D; ++d) {
-    x1[d] = w.x1[d].data();
-    v1[d] = cols[d].rate_half;
-    a1[d] = w.a0[d].data();
+    // Stages 2 and 3: broad phase and forces at the trial state (the dashpots
+    // and the springs see the kicked rates, as in the frictionless Verlet).
+    status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::kicked), s.time + h, h, true);
+    if (has(status, kStepNotTaken)) return status;
+    // Stage 4: Verlet's final kick q' ← q' + h/2 q''(trial).
+    if (verlet)
+      for (const Column& c : cols)
+        for (std::int32_t i = 0; i < n; ++i) c.rate1[i] = c.rate_half[i] + half * c.acc1[i];
   }
-  for (int k = 0; k < S; ++k) {
-    w_half[k] = w.w1[k].data();
-    alpha1[k] = w.alpha1[k].data();
-  }
-  // Stage 2: broad phase.
-  status |= granular_broad_phase<D>(m, s, w, x1);
-  if (has(status, kStepNotTaken)) return status;
-  // Stage 3: contacts and forces at the trial state (the dashpots and the
-  // springs see the kicked rates, as in the frictionless Verlet).
-  w.eval_time = s.time + h;
-  const std::int64_t contacts_start = w.clock_ns != nullptr ? w.clock_ns() : 0;
-  status |= granular_forces<D>(m, s, w, x1, v1, w_half, a1, alpha1, s.time + h, h);
-  if (w.clock_ns != nullptr) w.profile.contacts_ns += w.clock_ns() - contacts_start;
-  // Stage 4: Verlet's final kick q' ← q' + h/2 q''(trial).
-  if (verlet)
-    for (const Column& c : cols)
-      for (std::int32_t i = 0; i < n; ++i) c.rate1[i] = c.rate_half[i] + half * c.acc1[i];
 
   // Stage 5: commit (swaps) and books.
-  // The planes' impulse with the integrator's weights: Verlet h/2 (F_n + F_n+1), Euler h F_n.
+  // The planes' impulse with the integrator's weights: Verlet h/2 (F_n + F_n+1),
+  // Euler h F_n, RK4 its stages' (rk4_columns).
   const double* force_start = s.hist_plane_force[s.history_head].data();
   for (std::size_t p = 0; p < s.plane_impulse.size(); ++p)
-    s.plane_impulse[p] += verlet ? half * (force_start[p] + w.plane_force[p]) : h * force_start[p];
+    s.plane_impulse[p] += rk4 ? w.plane_weighted[p] : verlet ? half * (force_start[p] + w.plane_force[p]) : h * force_start[p];
   for (int d = 0; d < D; ++d) {
     s.x[d].swap(w.x1[d]);
     s.v[d].swap(w.v1[d]);

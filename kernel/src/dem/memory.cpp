@@ -141,7 +141,7 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
     const std::uint64_t pairs = static_cast<std::uint64_t>(r.max_pairs);
     m.model += n * real;
     m.state += (2 * spin + angle) * n * real + d * pairs * real + d * planes * n * real;
-    m.workspace += (2 * spin + angle) * n * real;
+    m.workspace += (2 * spin + angle) * n * real + (3 * spin + 2 * angle) * n * real;  // trial; RK4 stages, sums
     m.bytes_per_pair += d * real;
     if (r.broad_phase == BroadPhase::grid) m.workspace += pairs * (2 * index + d * real);
   }
