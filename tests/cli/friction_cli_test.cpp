@@ -96,11 +96,11 @@ TEST(FrictionCli, TwoThreadsAndReplayGiveTheSameBits) {
 
 TEST(FrictionCli, AnIntegratorWithoutRotationIsRefusedNamingTheKey) {
   const fs::path dir = xfdem::testing::scratch("friction_cli_test");
-  const fs::path scene = dir / "incline_abm4.json", csv = dir / "incline_abm4.csv";
-  std::ofstream(scene) << incline_scene("abm4");
+  const fs::path scene = dir / "incline_events.json", csv = dir / "incline_events.csv";
+  std::ofstream(scene) << incline_scene("abm4_events");
   const auto r = run("run " + scene.string() + " --csv " + csv.string());
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("scene key 'dem.integrator': abm4 does not carry rotation and friction yet"), std::string::npos)
+  EXPECT_NE(r.err.find("scene key 'dem.integrator': abm4_events does not carry rotation and friction yet"), std::string::npos)
       << r.err;
 }
 

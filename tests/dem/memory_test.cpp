@@ -35,9 +35,11 @@ template <int D>
 std::uint64_t state_bytes(const DemState<D>& s) {
   std::uint64_t sum = bytes(s.x) + bytes(s.v) + bytes(s.external_force) + bytes(s.x_ref) + bytes(s.pair_i) +
                       bytes(s.pair_j) + bytes(s.pair_stiffness) + bytes(s.pair_eta) + bytes(s.plane_offset) +
-                      bytes(s.plane_speed) + bytes(s.plane_impulse) + bytes(s.w) + bytes(s.alpha) + bytes(s.angle) +
+                      bytes(s.plane_speed) + bytes(s.plane_impulse) + bytes(s.w) + bytes(s.angle) +
                       bytes(s.pair_xi) + bytes(s.plane_xi);
-  for (int k = 0; k < 4; ++k) sum += bytes(s.hist_v[k]) + bytes(s.hist_a[k]) + bytes(s.hist_plane_force[k]);
+  for (int k = 0; k < 4; ++k)
+    sum += bytes(s.hist_v[k]) + bytes(s.hist_a[k]) + bytes(s.hist_plane_force[k]) + bytes(s.hist_w[k]) +
+           bytes(s.hist_alpha[k]);
   return sum;
 }
 

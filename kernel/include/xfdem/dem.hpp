@@ -276,9 +276,11 @@ struct DemState {
   std::int64_t step = 0;  ///< steps taken
   std::array<std::vector<double>, D> x, v;  ///< positions (m), velocities (m/s)
   // Rotation (rotating models only; empty otherwise): angular velocity
-  // (rad/s), its last acceleration (rad/s², the one-step integrators' kick),
-  // and in 2D the angle turned since t = 0 (rad).
-  std::array<std::vector<double>, spin_components(D)> w, alpha;
+  // (rad/s), its history ring (the same slots as hist_v/hist_a: copies of ω
+  // and the angular accelerations, rad/s²), and in 2D the angle turned since
+  // t = 0 (rad).
+  std::array<std::vector<double>, spin_components(D)> w;
+  std::array<std::array<std::vector<double>, spin_components(D)>, 4> hist_w, hist_alpha;
   std::array<std::vector<double>, angle_components(D)> angle;
   /// Tangential spring ξ (m) of each pair-list entry, the contact record that
   /// survives list rebuilds (merged by (i, j)), and of each particle–plane
@@ -509,7 +511,11 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   for (int d = 0; d < D; ++d) visit("x", x[d].data(), x[d].size());
   for (int d = 0; d < D; ++d) visit("v", v[d].data(), v[d].size());
   for (auto& c : w) visit("w", c.data(), c.size());
-  for (auto& c : alpha) visit("alpha", c.data(), c.size());
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < spin_components(D); ++c) {
+      visit("hist_w", hist_w[k][c].data(), hist_w[k][c].size());
+      visit("hist_alpha", hist_alpha[k][c].data(), hist_alpha[k][c].size());
+    }
   for (auto& c : angle) visit("angle", c.data(), c.size());
   for (auto& c : pair_xi) visit("pair_xi", c.data(), c.size());
   for (auto& c : plane_xi) visit("plane_xi", c.data(), c.size());

@@ -243,7 +243,10 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   if (m.features.rotation) {
     constexpr int S = spin_components(D);
     size_columns(s.w, un);
-    size_columns(s.alpha, un);
+    for (int k = 0; k < 4; ++k) {
+      size_columns(s.hist_w[k], un);
+      size_columns(s.hist_alpha[k], un);
+    }
     size_columns(w.w1, un);
     size_columns(w.alpha1, un);
     for (std::size_t i = 0; i < un; ++i)
@@ -400,9 +403,9 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       return BuildResult::failure(Code::invalid_argument,
                                   "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",
                                   desc.friction > 0 ? "friction" : "rolling_friction");
-    if (desc.integrator == DemIntegrator::abm4 || desc.integrator == DemIntegrator::abm4_events)
+    if (desc.integrator == DemIntegrator::abm4_events)
       return BuildResult::failure(Code::invalid_argument,
-                                  "integrator: %s does not carry rotation and friction yet (verlet, "
+                                  "integrator: %s does not carry rotation and friction yet (abm4, verlet, "
                                   "symplectic_euler and rk4 do)",
                                   integrator_name(desc.integrator));
   }

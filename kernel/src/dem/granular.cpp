@@ -12,7 +12,8 @@
 //      advanced by dt) and rolling, one law (dem/contact_law.hpp), planes then
 //      pairs in list order;
 //   4. integrate (second part): the final kick;
-//   (rk4: 1-3 for each of its four stages and for y_n+1, rk4_columns;)
+//   (rk4: 1-3 for each of its four stages and for y_n+1, rk4_columns; abm4
+//   after three rk4 steps: for the prediction and for y_n+1, abm4_columns;)
 //   5. commit and books: the trial state becomes the state (a refused step
 //      leaves it untouched), time, the network bound, the finiteness check,
 //      the planes' impulses and the energy books.
@@ -305,9 +306,13 @@ StepStatus granular_evaluate_current(const DemModel<D>& m, DemState<D>& s, DemWo
   }
   for (int k = 0; k < spin_components(D); ++k) {
     at.spin[k] = s.w[k].data();
-    at.alpha[k] = s.alpha[k].data();
+    at.alpha[k] = s.hist_alpha[s.history_head][k].data();
   }
-  return evaluate_at<D>(m, s, w, at, s.time, 0.0, true);
+  const StepStatus status = evaluate_at<D>(m, s, w, at, s.time, 0.0, true);
+  // The head slot's copies of the rates (the multistep history reads them).
+  for (int d = 0; d < D; ++d) s.hist_v[s.history_head][d] = s.v[d];
+  for (int k = 0; k < spin_components(D); ++k) s.hist_w[s.history_head][k] = s.w[k];
+  return status;
 }
 
 namespace {
@@ -326,6 +331,9 @@ struct Column {
   double* acc1;       ///< at the trial state
   // RK4: the stage's coordinate, rate and acceleration, and the weighted sums.
   double *qs, *rs, *as, *sq, *sr;
+  // ABM4: the history ring's rates and accelerations, newest (the head) first.
+  const double* rate_hist[4];
+  const double* acc_hist[4];
 };
 
 /// Which of the columns' copies an evaluation reads: an RK4 stage (qs, rs),
@@ -412,6 +420,42 @@ StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w,
 
 }  // namespace
 
+/// One ABM4 PECE step over the columns (history complete), then f(y_n+1) into
+/// acc1: the prediction's evaluation reads the stored springs advanced by h
+/// without keeping them, the evaluation of y_n+1 keeps them. The planes'
+/// impulse of the corrector, h/24 (9 F* + 19 F_n − 5 F_n−1 + F_n−2), is left
+/// in w.plane_weighted.
+template <int D>
+StepStatus abm4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count) {
+  const std::int32_t n = m.n;
+  const double h = m.dt, c = h / 24.0, t = s.time;
+  for (int k = 0; k < count; ++k) {
+    const Column& col = cols[k];
+    const double *r0 = col.rate_hist[0], *r1 = col.rate_hist[1], *r2 = col.rate_hist[2], *r3 = col.rate_hist[3];
+    const double *a0 = col.acc_hist[0], *a1 = col.acc_hist[1], *a2 = col.acc_hist[2], *a3 = col.acc_hist[3];
+    if (col.q != nullptr)
+      for (std::int32_t i = 0; i < n; ++i) col.qs[i] = col.q[i] + c * (55.0 * r0[i] - 59.0 * r1[i] + 37.0 * r2[i] - 9.0 * r3[i]);
+    for (std::int32_t i = 0; i < n; ++i) col.rs[i] = col.rate[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
+  }
+  StepStatus status = evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::stage), t + h, h, false);
+  if (has(status, kStepNotTaken)) return status;
+  const int f0 = s.history_head, f1 = (f0 + 3) & 3, f2 = (f0 + 2) & 3;
+  for (std::size_t p = 0; p < w.plane_weighted.size(); ++p)
+    w.plane_weighted[p] = c * (9.0 * w.plane_force[p] + 19.0 * s.hist_plane_force[f0][p] -
+                               5.0 * s.hist_plane_force[f1][p] + s.hist_plane_force[f2][p]);
+  for (int k = 0; k < count; ++k) {
+    const Column& col = cols[k];
+    const double *r0 = col.rate_hist[0], *r1 = col.rate_hist[1], *r2 = col.rate_hist[2];
+    const double *a0 = col.acc_hist[0], *a1 = col.acc_hist[1], *a2 = col.acc_hist[2];
+    if (col.q != nullptr)
+      for (std::int32_t i = 0; i < n; ++i) col.q1[i] = col.q[i] + c * (9.0 * col.rs[i] + 19.0 * r0[i] - 5.0 * r1[i] + r2[i]);
+    for (std::int32_t i = 0; i < n; ++i)
+      col.rate1[i] = col.rate[i] + c * (9.0 * col.as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
+  }
+  status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
+  return status;
+}
+
 template <int D>
 StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   constexpr int S = spin_components(D);
@@ -435,24 +479,43 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   for (int d = 0; d < D; ++d)
     cols[d] = {s.x[d].data(), w.x1[d].data(), s.v[d].data(), w.vs[d].data(), w.v1[d].data(),
                s.hist_a[s.history_head][d].data(), w.a0[d].data(), w.xs[d].data(), w.vs[d].data(),
-               w.as[d].data(), w.sum_x[d].data(), w.sum_v[d].data()};
+               w.as[d].data(), w.sum_x[d].data(), w.sum_v[d].data(), {}, {}};
   for (int k = 0; k < S; ++k)
-    cols[D + k] = {nullptr, nullptr, s.w[k].data(), w.w1[k].data(), w.w1[k].data(), s.alpha[k].data(),
-                   w.alpha1[k].data(), nullptr, w.ws[k].data(), w.alphas[k].data(), nullptr, w.sum_w[k].data()};
+    cols[D + k] = {nullptr, nullptr, s.w[k].data(), w.w1[k].data(), w.w1[k].data(), s.hist_alpha[s.history_head][k].data(),
+                   w.alpha1[k].data(), nullptr, w.ws[k].data(), w.alphas[k].data(), nullptr, w.sum_w[k].data(),
+                   {}, {}};
   if constexpr (D == 2) {  // the angle turned: the coordinate of the 2D spin
     cols[D].q = s.angle[0].data();
     cols[D].q1 = w.angle1[0].data();
     cols[D].qs = w.angle_s[0].data();
     cols[D].sq = w.sum_angle[0].data();
   }
-  const bool rk4 = m.integrator == DemIntegrator::rk4;
+  // The history ring, newest first (ABM4 reads all four slots).
+  for (int age = 0; age < 4; ++age) {
+    const int slot = (s.history_head + 4 - age) & 3;
+    for (int d = 0; d < D; ++d) {
+      cols[d].rate_hist[age] = s.hist_v[slot][d].data();
+      cols[d].acc_hist[age] = s.hist_a[slot][d].data();
+    }
+    for (int k = 0; k < S; ++k) {
+      cols[D + k].rate_hist[age] = s.hist_w[slot][k].data();
+      cols[D + k].acc_hist[age] = s.hist_alpha[slot][k].data();
+    }
+  }
+  const bool abm4 = m.integrator == DemIntegrator::abm4 && s.history_count == 4;
+  // rk4, and abm4's three start steps.
+  const bool rk4 = m.integrator == DemIntegrator::rk4 || (m.integrator == DemIntegrator::abm4 && !abm4);
   // The kicked rate: Verlet's translation keeps it apart (w.vs) from the final
   // one, its rotation kicks w1 in place; symplectic Euler's is final.
   if (!verlet)
     for (int d = 0; d < D; ++d) cols[d].rate_half = w.v1[d].data();
 
-  if (rk4) {
-    // Stages 1-4 in each of the four RK4 stages and the evaluation of y_n+1.
+  if (abm4) {
+    // Stages 1-3 for the prediction and for y_n+1.
+    status |= abm4_columns<D>(m, s, w, cols, D + S);
+    if (has(status, kStepNotTaken)) return status;
+  } else if (rk4) {
+    // Stages 1-3 in each of the four RK4 stages and the evaluation of y_n+1.
     status |= rk4_columns<D>(m, s, w, cols, D + S);
     if (has(status, kStepNotTaken)) return status;
   } else {
@@ -476,21 +539,29 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
 
   // Stage 5: commit (swaps) and books.
   // The planes' impulse with the integrator's weights: Verlet h/2 (F_n + F_n+1),
-  // Euler h F_n, RK4 its stages' (rk4_columns).
+  // Euler h F_n, RK4 and ABM4 their stages' (rk4_columns, abm4_columns).
   const double* force_start = s.hist_plane_force[s.history_head].data();
   for (std::size_t p = 0; p < s.plane_impulse.size(); ++p)
-    s.plane_impulse[p] += rk4 ? w.plane_weighted[p] : verlet ? half * (force_start[p] + w.plane_force[p]) : h * force_start[p];
+    s.plane_impulse[p] += rk4 || abm4 ? w.plane_weighted[p]
+                          : verlet    ? half * (force_start[p] + w.plane_force[p])
+                                      : h * force_start[p];
+  // The new state, and its rates and accelerations into the next history slot.
+  const int slot = (s.history_head + 1) & 3;
   for (int d = 0; d < D; ++d) {
     s.x[d].swap(w.x1[d]);
     s.v[d].swap(w.v1[d]);
-    s.hist_a[s.history_head][d].swap(w.a0[d]);
+    s.hist_a[slot][d].swap(w.a0[d]);
+    s.hist_v[slot][d] = s.v[d];
   }
   for (int k = 0; k < S; ++k) {
     s.w[k].swap(w.w1[k]);
-    s.alpha[k].swap(w.alpha1[k]);
+    s.hist_alpha[slot][k].swap(w.alpha1[k]);
+    s.hist_w[slot][k] = s.w[k];
   }
   if constexpr (D == 2) s.angle[0].swap(w.angle1[0]);
-  s.hist_plane_force[s.history_head].swap(w.plane_force);
+  s.hist_plane_force[slot].swap(w.plane_force);
+  s.history_head = slot;
+  s.history_count = std::min(s.history_count + 1, 4);
   ++s.step;
   s.time = static_cast<double>(s.step) * m.dt;
   if (m.features.broad_phase != BroadPhase::grid) {
@@ -508,7 +579,7 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     for (const double value : s.plane_xi[d]) probe += 0.0 * value;
   }
   for (int k = 0; k < S; ++k)
-    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.w[k][i] + 0.0 * s.alpha[k][i];
+    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.w[k][i] + 0.0 * s.hist_alpha[s.history_head][k][i];
   for (const auto& c : s.angle)
     for (const double value : c) probe += 0.0 * value;
   for (std::size_t p = 0; p < s.plane_offset.size(); ++p)

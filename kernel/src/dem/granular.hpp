@@ -33,7 +33,7 @@ template <int D>
 ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t p, double overlap, double speed,
                                const double (&vi)[D], const double* wi, double h, double (&xi)[D]);
 
-/// One step of a rotating model (verlet, symplectic_euler or rk4).
+/// One step of a rotating model (verlet, symplectic_euler, rk4 or abm4).
 template <int D>
 StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w);
 

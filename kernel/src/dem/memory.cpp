@@ -134,13 +134,13 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
   if (r.broad_phase == BroadPhase::grid)
     m.workspace += static_cast<std::uint64_t>(r.max_cells + 1) * DemMemory::kBytesPerGridCell + 2 * n * index;
   if (D > 1 && (desc.friction > 0 || desc.rolling_friction > 0)) {
-    // Rotation: 1/I; ω and its acceleration (and the 2D angle), in the state
+    // Rotation: 1/I; ω, the history ring of ω and α (and the 2D angle), in the state
     // and as the step's trial copies; each pair record's and each particle–plane
     // contact's tangential spring; the grid's copy of the old records at a rebuild.
     constexpr std::uint64_t spin = spin_components(D), angle = D == 2 ? 1 : 0;
     const std::uint64_t pairs = static_cast<std::uint64_t>(r.max_pairs);
     m.model += n * real;
-    m.state += (2 * spin + angle) * n * real + d * pairs * real + d * planes * n * real;
+    m.state += (9 * spin + angle) * n * real + d * pairs * real + d * planes * n * real;  // ω, its 4-slot ring of ω and α
     m.workspace += (2 * spin + angle) * n * real + (3 * spin + 2 * angle) * n * real;  // trial; RK4 stages, sums
     m.bytes_per_pair += d * real;
     if (r.broad_phase == BroadPhase::grid) m.workspace += pairs * (2 * index + d * real);
