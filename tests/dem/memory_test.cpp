@@ -28,15 +28,18 @@ std::uint64_t bytes(const std::array<std::vector<T>, N>& columns) {
 template <int D>
 std::uint64_t model_bytes(const DemModel<D>& m) {
   return bytes(m.mass) + bytes(m.inv_mass) + bytes(m.radius) + bytes(m.stiffness) + bytes(m.plane_eta) +
-         bytes(m.plane_point) + bytes(m.plane_normal);
+         bytes(m.plane_point) + bytes(m.plane_normal) + bytes(m.inv_inertia);
 }
 
 template <int D>
 std::uint64_t state_bytes(const DemState<D>& s) {
   std::uint64_t sum = bytes(s.x) + bytes(s.v) + bytes(s.external_force) + bytes(s.x_ref) + bytes(s.pair_i) +
                       bytes(s.pair_j) + bytes(s.pair_stiffness) + bytes(s.pair_eta) + bytes(s.plane_offset) +
-                      bytes(s.plane_speed) + bytes(s.plane_impulse);
-  for (int k = 0; k < 4; ++k) sum += bytes(s.hist_v[k]) + bytes(s.hist_a[k]) + bytes(s.hist_plane_force[k]);
+                      bytes(s.plane_speed) + bytes(s.plane_impulse) + bytes(s.w) + bytes(s.angle) +
+                      bytes(s.pair_xi) + bytes(s.plane_xi);
+  for (int k = 0; k < 4; ++k)
+    sum += bytes(s.hist_v[k]) + bytes(s.hist_a[k]) + bytes(s.hist_plane_force[k]) + bytes(s.hist_w[k]) +
+           bytes(s.hist_alpha[k]);
   return sum;
 }
 
@@ -45,7 +48,10 @@ std::uint64_t workspace_bytes(const DemWorkspace<D>& w) {
   return bytes(w.xs) + bytes(w.vs) + bytes(w.as) + bytes(w.sum_x) + bytes(w.sum_v) + bytes(w.x0) + bytes(w.v0) +
          bytes(w.a0) + bytes(w.x1) + bytes(w.v1) + bytes(w.cell_start) + bytes(w.cell_particles) +
          bytes(w.particle_cell) + bytes(w.cross) + bytes(w.plane_force_part) + bytes(w.plane_force) +
-         bytes(w.plane_force0) + bytes(w.plane_weighted) + bytes(w.plane_step_impulse) + bytes(w.network_row);
+         bytes(w.plane_force0) + bytes(w.plane_weighted) + bytes(w.plane_step_impulse) + bytes(w.network_row) +
+         bytes(w.w1) + bytes(w.alpha1) + bytes(w.angle1) + bytes(w.old_pair_i) + bytes(w.old_pair_j) +
+         bytes(w.old_pair_xi) + bytes(w.ws) + bytes(w.alphas) + bytes(w.sum_w) + bytes(w.angle_s) +
+         bytes(w.sum_angle);
 }
 
 /// n particles on a lattice 3 radii apart (no two touch) above a floor, in D dimensions.
@@ -90,6 +96,18 @@ TEST(Memory, DemMemoryCountsEveryArrayTheBuildSizes) {
   expect_counted_exactly(lattice<2>(6), BroadPhase::all_pairs);
   expect_counted_exactly(lattice<1>(1), BroadPhase::none);
   EXPECT_EQ(dem_memory(grid).total(3), dem_memory(grid).total() + 2 * dem_memory(grid).state);
+  // Rotating particles: their angular columns and the contact records
+  // (tangential springs of the pair list and of each particle–plane contact).
+  for (DemDesc<3> rotating : {grid, lattice<3>(6)}) {
+    rotating.friction = 0.4;
+    rotating.integrator = DemIntegrator::verlet;
+    expect_counted_exactly(rotating, rotating.particles.size() > 8 ? BroadPhase::grid : BroadPhase::all_pairs);
+    EXPECT_EQ(dem_memory(rotating).bytes_per_pair, DemMemory::kBytesPerPair + 3 * sizeof(double));
+  }
+  DemDesc<2> disks = lattice<2>(6);
+  disks.rolling_friction = 0.1;
+  disks.integrator = DemIntegrator::symplectic_euler;
+  expect_counted_exactly(disks, BroadPhase::all_pairs);
 }
 
 TEST(Memory, PastTheBudgetIsRefusedBeforeAnythingIsAllocatedNamingTheCapacity) {

@@ -63,6 +63,10 @@ class DemSystem {
       case Probe::Kind::particle_velocity: return state_.v[p.component][p.particle];
       case Probe::Kind::pair_force: return dem_pair_force(model_, state_, p.particle, p.other);
       case Probe::Kind::plane_force: return dem_plane_force(model_, state_, p.particle, p.other);
+      case Probe::Kind::pair_tangential_force: return dem_pair_tangential_force(model_, state_, p.particle, p.other);
+      case Probe::Kind::plane_tangential_force: return dem_plane_tangential_force(model_, state_, p.particle, p.other);
+      case Probe::Kind::particle_angular_velocity: return dem_angular_velocity(model_, state_, p.particle, p.component);
+      case Probe::Kind::particle_rotation: return dem_rotation(model_, state_, p.particle);
       case Probe::Kind::energy_total: {
         const DemEnergy e = dem_energy(model_, state_);
         return e.kinetic + e.elastic + e.potential;

@@ -75,6 +75,9 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
                    ? ContactLaw::linear
                    : ContactLaw::linear_nontensile;
     desc.damping_ratio = contact.real_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
+    desc.friction = contact.real_or("friction", 0.0, kNonNegative);
+    desc.tangential_stiffness_ratio = contact.real_or("tangential_stiffness_ratio", 0.0, kPositive);
+    desc.rolling_friction = contact.real_or("rolling_friction", 0.0, kNonNegative);
     contact.finish();
   }
   desc.skin = dem.real_or("skin", 0.0, kNonNegative);
@@ -108,6 +111,12 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
     particle.stiffness = p.real("stiffness", kPositive);
     particle.position = to_array<D>(p.vector("position", D));
     particle.velocity = p.has("velocity") ? to_array<D>(p.vector("velocity", D)) : std::array<double, D>{};
+    if (p.has("angular_velocity")) {
+      if constexpr (D == 1) p.fail("angular_velocity", "rods on a line do not rotate (2D and 3D scenes only)");
+      else if constexpr (D == 2) particle.angular_velocity[0] = p.real("angular_velocity");
+      else particle.angular_velocity = to_array<3>(p.vector("angular_velocity", 3));
+    }
+    particle.inertia = p.real_or("inertia", 0.0, kPositive);
     p.finish();
     names.push_back(name);
     desc.particles.push_back(particle);
@@ -292,8 +301,20 @@ Scene parse_scene(const Json& document) {
       continue;
     }
     const std::string quantity = p.choice("quantity", {"position", "velocity", "displacement", "contact_force",
-                                                       "interface_gap", "energy"});
-    if (quantity == "energy") {
+                                                       "interface_gap", "energy", "angular_velocity", "rotation"});
+    if (quantity == "angular_velocity" || quantity == "rotation") {
+      if (scene.dimension == 1) p.fail("quantity", "'" + quantity + "': rods on a line do not rotate");
+      if (quantity == "rotation" && scene.dimension != 2) p.fail("quantity", "'rotation' (the angle turned) is 2D only");
+      const std::string name = p.text("particle");
+      probe.particle = particle_index(name);
+      if (probe.particle < 0) p.fail("particle", "'" + name + "' is not a particle of this scene");
+      if (quantity == "rotation") {
+        probe.kind = Probe::Kind::particle_rotation;
+      } else {
+        probe.kind = Probe::Kind::particle_angular_velocity;
+        if (scene.dimension == 3) probe.component = static_cast<int>(p.integer("component", 0, 2));
+      }
+    } else if (quantity == "energy") {
       probe.kind = energy_probe_kind(p);
     } else if (quantity == "contact_force") {
       const Json& between = p.raw("between");
@@ -317,6 +338,18 @@ Scene parse_scene(const Json& document) {
         probe.other = plane_index(other);
       } else {
         p.fail("between", "'" + other + "' is not a particle, a plane or 'bar'");
+      }
+      if (p.choice_or("part", "normal", {"normal", "tangential"}) == "tangential") {
+        if (scene.dimension == 1) p.fail("part", "'tangential': rods on a line have no tangential contact force");
+        if (probe.kind == Probe::Kind::bar_contact_force) p.fail("part", "'tangential': the bar's contact is normal only");
+        // The named order fixes the sign of the 2D tangent (scenes-2d.md).
+        if (probe.kind == Probe::Kind::pair_force) {
+          probe.kind = Probe::Kind::pair_tangential_force;
+          probe.particle = ia;
+          probe.other = ib;
+        } else {
+          probe.kind = Probe::Kind::plane_tangential_force;
+        }
       }
     } else if (quantity == "interface_gap") {
       if (!scene.has_continuum) p.fail("quantity", "interface_gap needs a continuum");
@@ -425,8 +458,9 @@ SceneError build_refusal(const Scene& scene, Built model, const BuildResult& bui
     key = field == "dt" ? "time.dt" : field;
     if (field == "dt" && substep)
       reason = "the particle substep time.dt / time.dem_substeps = " + reason + "; reduce time.dt or raise time.dem_substeps";
-  } else if (block == "dem" && field == "damping_ratio") {
-    key = "dem.contact.damping_ratio";
+  } else if (block == "dem" && (field == "damping_ratio" || field == "friction" || field == "rolling_friction" ||
+                                  field == "tangential_stiffness_ratio")) {
+    key = "dem.contact." + field;
   } else if (block == "continuum" && (field == "beta" || field == "gamma")) {
     key = "continuum.newmark." + field;
   } else if (field == "dem_substeps") {

@@ -39,12 +39,17 @@ struct Probe {
     plate_crack_opening,  ///< other: the crack's index; component 0 normal, 1 tangential
     momentum_continuum,
     momentum_particles,
+    // Rotating particles (scenes-2d.md, "Particles: rotation and friction").
+    particle_angular_velocity,
+    particle_rotation,
+    pair_tangential_force,
+    plane_tangential_force,
   };
   std::string name;
   Kind kind = Kind::energy_total;
   int particle = -1;   ///< particle index (position, velocity, contact forces)
   int other = -1;      ///< second particle or plane index
-  int component = 0;   ///< axis for position and velocity
+  int component = 0;   ///< axis for position and velocity (and the 3D angular velocity)
   double bar_at = 0;   ///< coordinate along the bar (m)
   double at[2] = {0, 0};  ///< point of the plate (m)
 };

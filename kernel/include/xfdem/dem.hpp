@@ -1,5 +1,7 @@
 // The DEM kernel: spheres (disks in 2D, rods on a line in 1D) with normal
-// spring-dashpot contacts, fixed planes, gravity, and five time integrators.
+// spring-dashpot contacts, fixed planes, gravity, and five time integrators;
+// in 2D and 3D optionally rotation with Coulomb friction (Cundall–Strack
+// tangential spring) and rolling resistance (DemDesc::friction).
 //
 //   DemDesc<D>  --build_dem()-->  DemModel<D> (immutable) + DemState<D> + DemWorkspace<D>
 //   dem_step(model, state, workspace) -> StepStatus          (never allocates, throws or locks)
@@ -46,6 +48,20 @@ enum class ContactLaw : std::uint8_t {
   linear_nontensile,
 };
 
+/// Components of a particle's angular velocity: 1 in 2D (about z), 3 in 3D,
+/// none on a line.
+constexpr int spin_components(int dimension) { return dimension == 3 ? 3 : dimension == 2 ? 1 : 0; }
+/// Columns of a tangential spring: D in 2D and 3D, none on a line (so that a
+/// 1D state, which the coupled stepper copies every step, carries no empty arrays).
+constexpr int spring_components(int dimension) { return dimension == 1 ? 0 : dimension; }
+/// The angle turned is kept in 2D only.
+constexpr int angle_components(int dimension) { return dimension == 2 ? 1 : 0; }
+
+/// Default tangential_stiffness_ratio k_t / k_n: 2/7, at which a sphere's
+/// tangential contact oscillation (k_t (1/m + r²/I) = 3.5 k_t/m) has the
+/// normal one's frequency, so the stable step is unchanged.
+inline constexpr double kDefaultTangentialStiffnessRatio = 2.0 / 7.0;
+
 const char* integrator_name(DemIntegrator integrator) noexcept;
 const char* contact_law_name(ContactLaw law) noexcept;
 
@@ -63,6 +79,10 @@ struct ParticleDesc {
   double stiffness = 0;  ///< N/m, > 0 (the particle's own normal stiffness k_i)
   std::array<double, D> position{};  ///< m
   std::array<double, D> velocity{};  ///< m/s
+  /// rad/s: 2D about z; 3D [wx, wy, wz]. Read only when the model rotates.
+  std::array<double, spin_components(D)> angular_velocity{};
+  /// kg·m², > 0; 0: the solid's own, ½ m r² (disk) or 2/5 m r² (sphere).
+  double inertia = 0;
 };
 
 /// A fixed half-space boundary: the solid side is where (x − point)·normal < 0.
@@ -109,6 +129,16 @@ struct DemDesc {
   /// 0: never split. Default from docs/benchmarks.md (where two workers pay).
   std::int32_t split_from = 1000;
   DemCapacities capacities;
+  /// Coulomb friction coefficient μ (>= 0) of every contact, pairs and planes.
+  /// With friction or rolling_friction > 0 (2D and 3D only) the particles
+  /// rotate and each contact keeps a tangential spring (see docs/dem.md);
+  /// both 0: the frictionless step, unchanged.
+  double friction = 0;
+  /// k_t / k_n of the tangential spring (> 0); 0: kDefaultTangentialStiffnessRatio.
+  double tangential_stiffness_ratio = 0;
+  /// Rolling resistance μ_r (>= 0): a torque μ_r R* |F_n| against the
+  /// relative rolling, never reversing it within a step.
+  double rolling_friction = 0;
   /// Give every particle an external force input (DemState::external_force,
   /// N, set by the host between steps, held over a step). Off: no such term.
   bool external_forces = false;
@@ -148,6 +178,9 @@ struct DemMemory {
   std::int64_t grid_cells = 0;  ///< cells of the grid's index (the resolved max_grid_cells; 0 without a grid)
   /// A pair-list entry, in the state: i and j (4 bytes each), K and η (8 each).
   static constexpr std::uint64_t kBytesPerPair = 24;
+  /// A pair-list entry's bytes in the state for this description: kBytesPerPair,
+  /// plus its record's tangential spring (D doubles) when the particles rotate.
+  std::uint64_t bytes_per_pair = kBytesPerPair;
   /// A grid cell, in the workspace: where its particles start in the sorted list.
   static constexpr std::uint64_t kBytesPerGridCell = 4;
   /// model + workspace + `states` × state (a host that keeps copies of the state counts them).
@@ -169,6 +202,9 @@ struct DemFeatures {
   bool nontensile = false;
   bool planes = false;
   bool external_forces = false;
+  /// Friction or rolling resistance: the particles rotate, contacts keep a
+  /// tangential history, and the step is the granular one (dem/granular.cpp).
+  bool rotation = false;
   BroadPhase broad_phase = BroadPhase::none;
 };
 
@@ -201,7 +237,10 @@ struct DemModel {
   std::vector<double> mass, inv_mass, radius, stiffness;
   /// Dashpot coefficient against a plane, 2 ζ √(k_i m_i), per particle.
   std::vector<double> plane_eta;
+  /// 1 / moment of inertia (rotating models only, else empty).
+  std::vector<double> inv_inertia;
   std::vector<std::array<double, D>> plane_point, plane_normal;
+  double friction = 0, tangential_ratio = 0, rolling_friction = 0;  ///< DemDesc's (ratio resolved)
   std::array<double, D> gravity{};
   ContactLaw law = ContactLaw::linear;
   double damping_ratio = 0;
@@ -236,6 +275,17 @@ struct DemState {
   double time = 0;        ///< s
   std::int64_t step = 0;  ///< steps taken
   std::array<std::vector<double>, D> x, v;  ///< positions (m), velocities (m/s)
+  // Rotation (rotating models only; empty otherwise): angular velocity
+  // (rad/s), its history ring (the same slots as hist_v/hist_a: copies of ω
+  // and the angular accelerations, rad/s²), and in 2D the angle turned since
+  // t = 0 (rad).
+  std::array<std::vector<double>, spin_components(D)> w;
+  std::array<std::array<std::vector<double>, spin_components(D)>, 4> hist_w, hist_alpha;
+  std::array<std::vector<double>, angle_components(D)> angle;
+  /// Tangential spring ξ (m) of each pair-list entry, the contact record that
+  /// survives list rebuilds (merged by (i, j)), and of each particle–plane
+  /// contact (index p · n + i). Zero while apart. Rotating models only.
+  std::array<std::vector<double>, spring_components(D)> pair_xi, plane_xi;
   /// External force on each particle (N), an input the host sets between steps
   /// and the kernel holds constant over a step; empty unless
   /// DemDesc::external_forces. A change felt by a multistep history: call
@@ -341,6 +391,15 @@ struct DemWorkspace {
   /// window was affine in its input.
   std::uint64_t contact_signature = 0;
   std::vector<double> network_row;  ///< per particle: the D × D bound matrix of network_omega2 (packed)
+  // Rotating models: the trial angular state and torques / I of a step, and
+  // the previous pair list's records while a rebuild merges them.
+  std::array<std::vector<double>, spin_components(D)> w1, alpha1;
+  std::array<std::vector<double>, angle_components(D)> angle1;
+  /// RK4's stage angular velocity and acceleration and their weighted sums (and the 2D angle's).
+  std::array<std::vector<double>, spin_components(D)> ws, alphas, sum_w;
+  std::array<std::vector<double>, angle_components(D)> angle_s, sum_angle;
+  std::vector<std::int32_t> old_pair_i, old_pair_j;
+  std::array<std::vector<double>, spring_components(D)> old_pair_xi;
 };
 
 /// Validates `desc` and sizes model, state and workspace. The only call that
@@ -423,6 +482,25 @@ double dem_pair_force(const DemModel<D>& model, const DemState<D>& state, std::i
 template <int D>
 double dem_plane_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t p);
 
+/// Tangential force of a rotating model's contact on the second body, from
+/// the stored spring and the current velocities (the step's law, not advanced):
+/// 2D signed along t = (−n_y, n_x), n from particle i to particle j (to the
+/// plane for a plane contact, i.e. against its normal); 3D its magnitude.
+/// 0 when apart or in a model without friction; NaN for a bad index.
+template <int D>
+double dem_pair_tangential_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t j);
+template <int D>
+double dem_plane_tangential_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t p);
+
+/// Angular velocity of particle i (component 0 in 2D; 0–2 in 3D), rad/s; 0
+/// in a model that does not rotate; NaN for a bad index.
+template <int D>
+double dem_angular_velocity(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, int component);
+/// 2D: the angle particle i has turned since t = 0 (rad, counter-clockwise); 0
+/// in a model that does not rotate; NaN for a bad index or in 3D.
+template <int D>
+double dem_rotation(const DemModel<D>& model, const DemState<D>& state, std::int32_t i);
+
 // ---- implementation of the template member ---------------------------------
 
 template <int D>
@@ -432,6 +510,15 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   visit("step", &step, 1);
   for (int d = 0; d < D; ++d) visit("x", x[d].data(), x[d].size());
   for (int d = 0; d < D; ++d) visit("v", v[d].data(), v[d].size());
+  for (auto& c : w) visit("w", c.data(), c.size());
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < spin_components(D); ++c) {
+      visit("hist_w", hist_w[k][c].data(), hist_w[k][c].size());
+      visit("hist_alpha", hist_alpha[k][c].data(), hist_alpha[k][c].size());
+    }
+  for (auto& c : angle) visit("angle", c.data(), c.size());
+  for (auto& c : pair_xi) visit("pair_xi", c.data(), c.size());
+  for (auto& c : plane_xi) visit("plane_xi", c.data(), c.size());
   for (int d = 0; d < D; ++d) visit("external_force", external_force[d].data(), external_force[d].size());
   for (int s = 0; s < 4; ++s)
     for (int d = 0; d < D; ++d) {

@@ -9,6 +9,7 @@
 
 #include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
+#include "dem/granular.hpp"
 #include "dem/memory.hpp"
 #include "dem/network.hpp"
 
@@ -93,8 +94,20 @@ double max_contact_omega2(const DemDesc<D>& desc, bool pairs_possible) {
   return best;
 }
 
+/// A particle's moment of inertia: its own, or ½ m r² (disk, 2D), 2/5 m r² (sphere).
 template <int D>
-void size_columns(std::array<std::vector<double>, D>& c, std::size_t n) {
+double inertia_of(const ParticleDesc<D>& p) {
+  if (p.inertia > 0) return p.inertia;
+  return (D == 2 ? 0.5 : 0.4) * p.mass * p.radius * p.radius;
+}
+
+template <int D>
+bool rotates(const DemDesc<D>& desc) {
+  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0);
+}
+
+template <std::size_t N>
+void size_columns(std::array<std::vector<double>, N>& c, std::size_t n) {
   for (auto& col : c) col.assign(n, 0.0);
 }
 
@@ -157,7 +170,15 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
                        DemState<D>& s, DemWorkspace<D>& w) {
   const auto n = static_cast<std::int64_t>(desc.particles.size());
   // ---- stable step -----------------------------------------------------------
-  const double omega2 = max_contact_omega2(desc, m.features.broad_phase != BroadPhase::none);
+  double omega2 = max_contact_omega2(desc, m.features.broad_phase != BroadPhase::none);
+  if (m.features.rotation && desc.friction > 0) {
+    // The tangential spring with the particle free to turn: ω² = k_t (1/m + r²/I)
+    // per body, k_t/k_n (1 + m r²/I) times the normal one at most.
+    double worst = 1.0;
+    for (const auto& p : desc.particles)
+      worst = std::max(worst, m.tangential_ratio * (1.0 + p.mass * p.radius * p.radius / inertia_of(p)));
+    omega2 *= worst;
+  }
   m.max_contact_omega = std::sqrt(omega2);
   const double factor = dem_stable_step_factor(desc.integrator, desc.damping_ratio);
   m.stable_dt = omega2 > 0 ? factor / m.max_contact_omega : INFINITY;
@@ -183,6 +204,10 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
     m.radius[i] = p.radius;
     m.stiffness[i] = p.stiffness;
     m.plane_eta[i] = 2.0 * desc.damping_ratio * std::sqrt(p.stiffness * p.mass);
+  }
+  if (m.features.rotation) {
+    m.inv_inertia.resize(un);
+    for (std::size_t i = 0; i < un; ++i) m.inv_inertia[i] = 1.0 / inertia_of(desc.particles[i]);
   }
   m.plane_point.reserve(desc.planes.size());
   m.plane_normal.reserve(desc.planes.size());
@@ -215,6 +240,30 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   s.pair_j.assign(up, 0);
   s.pair_stiffness.assign(up, 0.0);
   s.pair_eta.assign(up, 0.0);
+  if (m.features.rotation) {
+    constexpr int S = spin_components(D);
+    size_columns(s.w, un);
+    for (int k = 0; k < 4; ++k) {
+      size_columns(s.hist_w[k], un);
+      size_columns(s.hist_alpha[k], un);
+    }
+    size_columns(w.w1, un);
+    size_columns(w.alpha1, un);
+    for (std::size_t i = 0; i < un; ++i)
+      for (int k = 0; k < S; ++k) s.w[k][i] = desc.particles[i].angular_velocity[k];
+    size_columns(s.angle, un);
+    size_columns(w.angle1, un);
+    for (auto* c : {&w.ws, &w.alphas, &w.sum_w}) size_columns(*c, un);
+    size_columns(w.angle_s, un);
+    size_columns(w.sum_angle, un);
+    size_columns(s.pair_xi, up);
+    size_columns(s.plane_xi, un * desc.planes.size());
+    if (m.features.broad_phase == BroadPhase::grid) {
+      w.old_pair_i.assign(up, 0);
+      w.old_pair_j.assign(up, 0);
+      size_columns(w.old_pair_xi, up);
+    }
+  }
   for (auto* c : {&w.xs, &w.vs, &w.as, &w.sum_x, &w.sum_v, &w.x0, &w.v0, &w.a0, &w.x1, &w.v1}) size_columns<D>(*c, un);
   const std::size_t planes = desc.planes.size();
   s.plane_offset.assign(planes, 0.0);
@@ -260,7 +309,11 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
       a[d] = s.hist_a[0][d].data();
     }
     w.eval_time = 0.0;
-    const StepStatus status = m.accelerations(m, s, w, x, v, a);
+    StepStatus status;
+    if constexpr (D > 1)
+      status = m.features.rotation ? dem_detail::granular_evaluate_current<D>(m, s, w) : m.accelerations(m, s, w, x, v, a);
+    else
+      status = m.accelerations(m, s, w, x, v, a);
     if (has(status, kStepNotTaken)) {
       char text[128];
       m.accelerations = nullptr;
@@ -279,7 +332,7 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   }
   s.history_count = 1;
   m.energy_check = desc.energy_check;
-  if (desc.small_system_path) m.small_step = dem_detail::select_small_step<D>(m);
+  if (desc.small_system_path && !m.features.rotation) m.small_step = dem_detail::select_small_step<D>(m);
   dem_restart_energy_ledger(m, s);
   return BuildResult::success();
 }
@@ -325,6 +378,37 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     if (!(len2 > 1e-300)) return BuildResult::failure(Code::invalid_argument, "planes[%zu].normal: must not be zero", p);
   }
   if (BuildResult r = check_plane_overlaps(desc); !r.ok()) return r;
+  // ---- friction and rotation ---------------------------------------------------
+  if (!(std::isfinite(desc.friction) && desc.friction >= 0))
+    return BuildResult::failure(Code::invalid_argument, "friction: must be finite and >= 0 (got %g)", desc.friction);
+  if (!(std::isfinite(desc.rolling_friction) && desc.rolling_friction >= 0))
+    return BuildResult::failure(Code::invalid_argument, "rolling_friction: must be finite and >= 0 (got %g)",
+                                desc.rolling_friction);
+  if (!(std::isfinite(desc.tangential_stiffness_ratio) && desc.tangential_stiffness_ratio >= 0))
+    return BuildResult::failure(Code::invalid_argument,
+                                "tangential_stiffness_ratio: must be finite and > 0, or 0 for the default %g (got %g)",
+                                kDefaultTangentialStiffnessRatio, desc.tangential_stiffness_ratio);
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto& p = desc.particles[static_cast<std::size_t>(i)];
+    if (!(std::isfinite(p.inertia) && p.inertia >= 0))
+      return BuildResult::failure(Code::invalid_argument,
+                                  "particles[%lld].inertia: must be finite and > 0, or 0 for the solid's own (got %g)",
+                                  (long long)i, p.inertia);
+    if (!finite_array(p.angular_velocity.data(), spin_components(D)))
+      return BuildResult::failure(Code::invalid_argument, "particles[%lld].angular_velocity: must be finite",
+                                  (long long)i);
+  }
+  if (desc.friction > 0 || desc.rolling_friction > 0) {
+    if (D == 1)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",
+                                  desc.friction > 0 ? "friction" : "rolling_friction");
+    if (desc.integrator == DemIntegrator::abm4_events)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "integrator: %s does not carry rotation and friction yet (abm4, verlet, "
+                                  "symplectic_euler and rk4 do)",
+                                  integrator_name(desc.integrator));
+  }
   if (desc.split_from < 0)
     return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
 
@@ -355,6 +439,11 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   m.features.planes = !desc.planes.empty();
   m.features.external_forces = desc.external_forces;
   m.features.broad_phase = sizes.broad_phase;
+  m.features.rotation = rotates(desc);
+  m.friction = desc.friction;
+  m.rolling_friction = desc.rolling_friction;
+  m.tangential_ratio =
+      desc.tangential_stiffness_ratio > 0 ? desc.tangential_stiffness_ratio : kDefaultTangentialStiffnessRatio;
   m.parts = sizes.parts;
   m.split = sizes.split;
   double r_max = 0;

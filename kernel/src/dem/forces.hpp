@@ -7,28 +7,11 @@
 #include <emmintrin.h>
 #endif
 
+#include "dem/contact_law.hpp"
 #include "xfdem/dem.hpp"
 #include "xfdem/parallel.hpp"
 
 namespace xfdem::dem_detail {
-
-/// Whether a contact is "on": overlap δ > 0 for `linear`; for the non-tensile
-/// law additionally the unclamped force K δ + η δ' > 0. Written as a continuous
-/// function (min of the two, in metres) so that events can be located by
-/// its sign change.
-inline double contact_indicator(bool nontensile, double overlap, double rate, double K, double eta) {
-  if (!nontensile) return overlap;
-  return std::min(overlap, overlap + eta * rate / K);
-}
-
-/// Normal force of the plain law at overlap δ > 0 and overlap rate δ'.
-template <bool Damped, bool NonTensile>
-inline double normal_force(double K, double eta, double overlap, double rate) {
-  double force = K * overlap;
-  if constexpr (Damped) force += eta * rate;
-  if constexpr (NonTensile) force = std::max(force, 0.0);
-  return force;
-}
 
 /// Which contacts carried a force, as a number: each evaluation sums the tags
 /// of its contacts (a sum, so the two parts' halves add up in any order) and

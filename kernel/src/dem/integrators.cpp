@@ -13,6 +13,7 @@
 
 #include "dem/energy_books.hpp"
 #include "dem/forces.hpp"
+#include "dem/granular.hpp"
 #include "dem/network.hpp"
 
 namespace xfdem {
@@ -708,6 +709,8 @@ StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   if (m.accelerations == nullptr) return StepStatus::not_built;
   // The small-system step has no stage clocks: a profiled step takes the general one (same bits).
   if (m.small_step != nullptr && w.clock_ns == nullptr) return m.small_step(m, s, w);
+  if constexpr (D > 1)
+    if (m.features.rotation) return dem_detail::granular_step<D>(m, s, w);
   return step_with<D>(GeneralRun<D>{m, s, w, m.accelerations});
 }
 

@@ -64,7 +64,7 @@ template <int D>
 BuildResult memory_refusal(const DemDesc<D>& desc, const DemMemory& memory, int states, const char* state_note,
                            std::uint64_t budget, bool allocator_failed) {
   const std::uint64_t total = memory.total(states);
-  const std::uint64_t pair_bytes = static_cast<std::uint64_t>(memory.pairs) * DemMemory::kBytesPerPair *
+  const std::uint64_t pair_bytes = static_cast<std::uint64_t>(memory.pairs) * memory.bytes_per_pair *
                                    static_cast<std::uint64_t>(states);
   const std::uint64_t cell_bytes =
       memory.grid_cells > 0 ? static_cast<std::uint64_t>(memory.grid_cells + 1) * DemMemory::kBytesPerGridCell : 0;
@@ -86,7 +86,7 @@ BuildResult memory_refusal(const DemDesc<D>& desc, const DemMemory& memory, int 
     things = "pairs";
     count = memory.pairs;
     bytes = pair_bytes;
-    std::snprintf(each, sizeof(each), "%llu bytes a pair", static_cast<unsigned long long>(DemMemory::kBytesPerPair));
+    std::snprintf(each, sizeof(each), "%llu bytes a pair", static_cast<unsigned long long>(memory.bytes_per_pair));
   } else if (cells_given && cell_bytes >= bytes) {
     field = "capacities.max_grid_cells";
     things = "grid cells";
@@ -133,6 +133,18 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
                 n * (d * (d + 1) / 2) * real;
   if (r.broad_phase == BroadPhase::grid)
     m.workspace += static_cast<std::uint64_t>(r.max_cells + 1) * DemMemory::kBytesPerGridCell + 2 * n * index;
+  if (D > 1 && (desc.friction > 0 || desc.rolling_friction > 0)) {
+    // Rotation: 1/I; ω, the history ring of ω and α (and the 2D angle), in the state
+    // and as the step's trial copies; each pair record's and each particle–plane
+    // contact's tangential spring; the grid's copy of the old records at a rebuild.
+    constexpr std::uint64_t spin = spin_components(D), angle = D == 2 ? 1 : 0;
+    const std::uint64_t pairs = static_cast<std::uint64_t>(r.max_pairs);
+    m.model += n * real;
+    m.state += (9 * spin + angle) * n * real + d * pairs * real + d * planes * n * real;  // ω, its 4-slot ring of ω and α
+    m.workspace += (2 * spin + angle) * n * real + (3 * spin + 2 * angle) * n * real;  // trial; RK4 stages, sums
+    m.bytes_per_pair += d * real;
+    if (r.broad_phase == BroadPhase::grid) m.workspace += pairs * (2 * index + d * real);
+  }
   return m;
 }
 

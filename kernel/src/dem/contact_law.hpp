@@ -1,0 +1,120 @@
+// The contact law, in one place: the normal spring-dashpot, its stored
+// energy, the tangential (Cundall–Strack) spring with its Coulomb cap, and
+// rolling resistance. The step's kernels (plain and frozen), the granular
+// step, the probes and the energy books all call these, so that they round
+// alike and cannot drift apart.
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "xfdem/dem.hpp"
+
+namespace xfdem::dem_detail {
+
+/// Whether a contact is "on": overlap δ > 0 for `linear`; for the non-tensile
+/// law additionally the unclamped force K δ + η δ' > 0. Written as a continuous
+/// function (min of the two, in metres) so that events can be located by
+/// its sign change.
+inline double contact_indicator(bool nontensile, double overlap, double rate, double K, double eta) {
+  if (!nontensile) return overlap;
+  return std::min(overlap, overlap + eta * rate / K);
+}
+
+/// Normal force of the plain law at overlap δ > 0 and overlap rate δ'
+/// (compressive positive).
+template <bool Damped, bool NonTensile>
+inline double normal_force(double K, double eta, double overlap, double rate) {
+  double force = K * overlap;
+  if constexpr (Damped) force += eta * rate;
+  if constexpr (NonTensile) force = std::max(force, 0.0);
+  return force;
+}
+
+/// The same law for any δ with the law chosen at run time (probes, the
+/// granular step): 0 when apart.
+inline double normal_force(bool nontensile, double K, double eta, double overlap, double rate) {
+  if (!(overlap > 0)) return 0.0;
+  return nontensile ? normal_force<true, true>(K, eta, overlap, rate) : normal_force<true, false>(K, eta, overlap, rate);
+}
+
+/// Energy of the normal spring at overlap δ > 0: ½ K δ².
+inline double spring_energy(double K, double overlap) { return 0.5 * K * overlap * overlap; }
+
+/// Tangential spring of one contact: stiffness k_t, sticking dashpot η_t and
+/// Coulomb coefficient μ.
+struct TangentialLaw {
+  double kt, eta_t, mu;
+};
+
+/// Cundall–Strack tangential force on the second body of a contact whose unit
+/// normal n points from the first to the second body and whose contact point
+/// slides at vt (second relative to first, in the contact plane).
+///  1. the stored spring ξ is turned into the current contact plane, its
+///     length kept (the plane rotates with the bodies);
+///  2. ξ += h vt (h = 0: a probe, nothing accumulates);
+///  3. trial F = −k_t ξ − η_t vt; above the cap μ|F_n| the contact slides:
+///     F is scaled to the cap and ξ reset to the cap, the spring that gives
+///     that F with the same dashpot term, ξ = −(F + η_t vt)/k_t. (Resetting
+///     ξ to carry the cap alone would store the dashpot's share in the spring
+///     and create energy at every slip.)
+/// Returns F; writes ξ back.
+template <int D>
+inline void tangential_force(const TangentialLaw& law, const double (&n)[D], const double (&vt)[D], double fn,
+                             double h, double (&xi)[D], double (&force)[D]) {
+  double along = 0, before = 0;
+  for (int d = 0; d < D; ++d) {
+    along += xi[d] * n[d];
+    before += xi[d] * xi[d];
+  }
+  if (along != 0.0) {
+    double after = 0;
+    for (int d = 0; d < D; ++d) {
+      xi[d] -= along * n[d];
+      after += xi[d] * xi[d];
+    }
+    const double keep = after > 0 ? std::sqrt(before / after) : 0.0;
+    for (int d = 0; d < D; ++d) xi[d] *= keep;
+  }
+  double f2 = 0;
+  for (int d = 0; d < D; ++d) {
+    xi[d] += h * vt[d];
+    force[d] = -law.kt * xi[d] - law.eta_t * vt[d];
+    f2 += force[d] * force[d];
+  }
+  const double cap = law.mu * std::fabs(fn);
+  if (f2 > cap * cap) {
+    const double scale = cap / std::sqrt(f2);
+    for (int d = 0; d < D; ++d) {
+      force[d] *= scale;
+      xi[d] = -(force[d] + law.eta_t * vt[d]) / law.kt;
+    }
+  }
+}
+
+/// Energy of the tangential spring: ½ k_t |ξ|².
+template <int D>
+inline double tangential_energy(double kt, const double* const (&xi)[D], std::size_t k) {
+  double sum = 0;
+  for (int d = 0; d < D; ++d) sum += xi[d][k] * xi[d][k];
+  return 0.5 * kt * sum;
+}
+
+/// Rolling resistance torque on the second body (the first gets its
+/// opposite): magnitude μ_r R* |F_n| against the relative rolling angular
+/// velocity `rolling` (second relative to first, S components), capped at the
+/// torque that would stop the relative rolling within a step h with the pair's
+/// 1/I_1 + 1/I_2 = `inv_inertia` (h = 0: a probe, no cap).
+template <int S>
+inline void rolling_torque(double mu_r, double r_eff, double fn, const double (&rolling)[S], double inv_inertia,
+                           double h, double (&torque)[S]) {
+  double w2 = 0;
+  for (int k = 0; k < S; ++k) w2 += rolling[k] * rolling[k];
+  for (int k = 0; k < S; ++k) torque[k] = 0.0;
+  if (!(w2 > 0)) return;
+  const double speed = std::sqrt(w2);
+  double magnitude = mu_r * r_eff * std::fabs(fn);
+  if (h > 0) magnitude = std::min(magnitude, speed / (h * inv_inertia));
+  for (int k = 0; k < S; ++k) torque[k] = -magnitude * rolling[k] / speed;
+}
+
+}  // namespace xfdem::dem_detail

@@ -1,0 +1,607 @@
+// The granular step: particles that rotate, with Coulomb friction and rolling
+// resistance (DemFeatures::rotation). A frictionless model never comes here
+// (integrators.cpp keeps its step, bit for bit).
+//
+// The step, in the order it runs (granular_step below):
+//   1. integrate (first part): the one-step integrator's kick and drift of
+//      every column it advances, translation (x, v) and rotation (θ, ω), into
+//      a trial state in the workspace;
+//   2. broad phase: the grid's pair list rebuilt at the trial positions when
+//      stale, the contact records (tangential springs) carried over by (i, j);
+//   3. contacts and forces at the trial state: normal, tangential (the spring
+//      advanced by dt) and rolling, one law (dem/contact_law.hpp), planes then
+//      pairs in list order;
+//   4. integrate (second part): the final kick;
+//   (rk4: 1-3 for each of its four stages and for y_n+1, rk4_columns; abm4
+//   after three rk4 steps: for the prediction and for y_n+1, abm4_columns;)
+//   5. commit and books: the trial state becomes the state (a refused step
+//      leaves it untouched), time, the network bound, the finiteness check,
+//      the planes' impulses and the energy books.
+// One part, in a fixed order: the bits do not depend on the host's workers.
+#include <algorithm>
+#include <cmath>
+
+#include "dem/contact_law.hpp"
+#include "dem/contact_parameters.hpp"
+#include "dem/energy_books.hpp"
+#include "dem/forces.hpp"
+#include "dem/granular.hpp"
+#include "dem/network.hpp"
+
+namespace xfdem::dem_detail {
+namespace {
+
+/// ω × n for the contact geometry: 2D ω (about z) × n = ω (−n_y, n_x).
+template <int D>
+inline void spin_cross(const double* w, const double (&n)[D], double (&out)[D]) {
+  if constexpr (D == 2) {
+    out[0] = -w[0] * n[1];
+    out[1] = w[0] * n[0];
+  } else {
+    out[0] = w[1] * n[2] - w[2] * n[1];
+    out[1] = w[2] * n[0] - w[0] * n[2];
+    out[2] = w[0] * n[1] - w[1] * n[0];
+  }
+}
+
+/// n × F (the torque of F applied at the arm n), S components.
+template <int D>
+inline void moment(const double (&n)[D], const double (&f)[D], double (&out)[spin_components(D)]) {
+  if constexpr (D == 2) {
+    out[0] = n[0] * f[1] - n[1] * f[0];
+  } else {
+    out[0] = n[1] * f[2] - n[2] * f[1];
+    out[1] = n[2] * f[0] - n[0] * f[2];
+    out[2] = n[0] * f[1] - n[1] * f[0];
+  }
+}
+
+}  // namespace
+
+template <int D>
+ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t j, double K, double eta,
+                              const double (&dx)[D], double dist2, const double (&vi)[D], const double (&vj)[D],
+                              const double* wi, const double* wj, double h, double (&xi)[D]) {
+  constexpr int S = spin_components(D);
+  ContactResult<D> r{};
+  const double reach = m.radius[i] + m.radius[j];
+  const double dist = std::sqrt(dist2);
+  if (dist > 0) {
+    for (int d = 0; d < D; ++d) r.normal[d] = dx[d] / dist;
+  } else {
+    for (int d = 0; d < D; ++d) r.normal[d] = d == 0 ? 1.0 : 0.0;
+    r.coincident = true;
+  }
+  double rate = 0;
+  for (int d = 0; d < D; ++d) rate -= (vj[d] - vi[d]) * r.normal[d];
+  r.fn = normal_force(m.law == ContactLaw::linear_nontensile, K, eta, reach - dist, rate);
+  // The contact point's sliding velocity, j relative to i: (v_j − v_i) − (r_i ω_i + r_j ω_j) × n.
+  double spin[S], turn[D], vt[D], vn = 0;
+  for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k] + m.radius[j] * wj[k];
+  spin_cross<D>(spin, r.normal, turn);
+  for (int d = 0; d < D; ++d) {
+    vt[d] = vj[d] - vi[d] - turn[d];
+    vn += vt[d] * r.normal[d];
+  }
+  for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
+  if (m.friction > 0) {
+    const double kt = m.tangential_ratio * K;
+    const double m_eff = 1.0 / (m.inv_mass[i] + m.inv_mass[j]);
+    const TangentialLaw law{kt, 2.0 * m.damping_ratio * std::sqrt(kt * m_eff), m.friction};
+    tangential_force<D>(law, r.normal, vt, r.fn, h, xi, r.ft);
+  }
+  // Torques: −r_i n × F_t on i, −r_j n × F_t on j (F_t acts on j, −F_t on i).
+  double nf[S];
+  moment<D>(r.normal, r.ft, nf);
+  for (int k = 0; k < S; ++k) {
+    r.torque_i[k] = -m.radius[i] * nf[k];
+    r.torque_j[k] = -m.radius[j] * nf[k];
+  }
+  if (m.rolling_friction > 0) {
+    double rolling[S], along = 0;
+    for (int k = 0; k < S; ++k) rolling[k] = wj[k] - wi[k];
+    if constexpr (D == 3) {  // rolling, not twisting: the part of ω_rel in the contact plane
+      for (int k = 0; k < S; ++k) along += rolling[k] * r.normal[k];
+      for (int k = 0; k < S; ++k) rolling[k] -= along * r.normal[k];
+    }
+    double roll[S];
+    rolling_torque<S>(m.rolling_friction, m.radius[i] * m.radius[j] / reach, r.fn, rolling,
+                      m.inv_inertia[i] + m.inv_inertia[j], h, roll);
+    for (int k = 0; k < S; ++k) {
+      r.torque_j[k] += roll[k];
+      r.torque_i[k] -= roll[k];
+    }
+  }
+  return r;
+}
+
+template <int D>
+ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t p, double overlap, double speed,
+                               const double (&vi)[D], const double* wi, double h, double (&xi)[D]) {
+  constexpr int S = spin_components(D);
+  ContactResult<D> r{};
+  // The plane is the first body: n is its normal (towards the particle), and
+  // it moves at `speed` along it without turning.
+  for (int d = 0; d < D; ++d) r.normal[d] = m.plane_normal[p][d];
+  double rate = speed;
+  for (int d = 0; d < D; ++d) rate -= vi[d] * r.normal[d];
+  r.fn = normal_force(m.law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
+  double spin[S], turn[D], vt[D], vn = 0;
+  for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k];
+  spin_cross<D>(spin, r.normal, turn);
+  for (int d = 0; d < D; ++d) {
+    vt[d] = vi[d] - speed * r.normal[d] - turn[d];
+    vn += vt[d] * r.normal[d];
+  }
+  for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
+  if (m.friction > 0) {
+    const double kt = m.tangential_ratio * m.stiffness[i];
+    const TangentialLaw law{kt, 2.0 * m.damping_ratio * std::sqrt(kt * m.mass[i]), m.friction};
+    tangential_force<D>(law, r.normal, vt, r.fn, h, xi, r.ft);
+  }
+  double nf[S];
+  moment<D>(r.normal, r.ft, nf);
+  for (int k = 0; k < S; ++k) r.torque_j[k] = -m.radius[i] * nf[k];
+  if (m.rolling_friction > 0) {
+    double rolling[S], along = 0;
+    for (int k = 0; k < S; ++k) rolling[k] = wi[k];
+    if constexpr (D == 3) {
+      for (int k = 0; k < S; ++k) along += rolling[k] * r.normal[k];
+      for (int k = 0; k < S; ++k) rolling[k] -= along * r.normal[k];
+    }
+    double roll[S];
+    rolling_torque<S>(m.rolling_friction, m.radius[i], r.fn, rolling, m.inv_inertia[i], h, roll);
+    for (int k = 0; k < S; ++k) r.torque_j[k] += roll[k];
+  }
+  return r;
+}
+
+/// Stage 3: a = g + F/m and α = M/I at the state (x, v, ω); the tangential
+/// springs advanced by h from the stored ones (0: nothing accumulates, the
+/// state's own forces). `keep`: the advanced springs become the stored ones
+/// (false: an intermediate stage of a multistage step, which reads them only).
+template <int D>
+StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
+                           ConstColumns<D> v, const std::array<const double*, spin_components(D)>& spin, Columns<D> a,
+                           const std::array<double*, spin_components(D)>& alpha, double t, double h, bool keep = true) {
+  constexpr int S = spin_components(D);
+  const std::int32_t n = m.n;
+  input_accelerations<D, true>(m, s, a, 0, n);
+  for (int k = 0; k < S; ++k) std::fill(alpha[k], alpha[k] + n, 0.0);
+  auto particle = [&](std::int32_t i, double (&vi)[D], double (&wi)[S]) {
+    for (int d = 0; d < D; ++d) vi[d] = v[d][i];
+    for (int k = 0; k < S; ++k) wi[k] = spin[k][i];
+  };
+  std::uint64_t active = 0;
+  for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
+    const std::array<double, D> point = plane_point_at(m, s, p, t);
+    double total = 0;
+    for (std::int32_t i = 0; i < n; ++i) {
+      const std::size_t slot = p * static_cast<std::size_t>(n) + static_cast<std::size_t>(i);
+      double gap = 0;
+      for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * m.plane_normal[p][d];
+      const double overlap = m.radius[i] - gap;
+      if (!(overlap > 0)) {
+        if (keep)
+          for (int d = 0; d < D; ++d) s.plane_xi[d][slot] = 0.0;  // apart: the contact forgets
+        continue;
+      }
+      double vi[D], wi[S], xi[D];
+      particle(i, vi, wi);
+      for (int d = 0; d < D; ++d) xi[d] = s.plane_xi[d][slot];
+      const ContactResult<D> c = plane_contact<D>(m, i, p, overlap, s.plane_speed[p], vi, wi, h, xi);
+      for (int d = 0; d < D; ++d) {
+        if (keep) s.plane_xi[d][slot] = xi[d];
+        a[d][i] += (c.fn * c.normal[d] + c.ft[d]) * m.inv_mass[i];
+      }
+      for (int k = 0; k < S; ++k) alpha[k][i] += c.torque_j[k] * m.inv_inertia[i];
+      active += c.fn != 0.0 ? plane_contact_tag(n, p, i) : 0;
+      total += c.fn;
+    }
+    w.plane_force[p] = total;
+  }
+  StepStatus status = StepStatus::ok;
+  for (std::int32_t c = 0; c < s.pair_count; ++c) {
+    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
+    double dx[D];
+    const double dist2 = separation<D>(x, i, j, dx);
+    const double reach = m.radius[i] + m.radius[j];
+    if (!(dist2 < reach * reach)) {
+      if (keep)
+        for (int d = 0; d < D; ++d) s.pair_xi[d][c] = 0.0;
+      continue;
+    }
+    double vi[D], wi[S], vj[D], wj[S], xi[D];
+    particle(i, vi, wi);
+    particle(j, vj, wj);
+    for (int d = 0; d < D; ++d) xi[d] = s.pair_xi[d][c];
+    const ContactResult<D> r =
+        pair_contact<D>(m, i, j, s.pair_stiffness[c], s.pair_eta[c], dx, dist2, vi, vj, wi, wj, h, xi);
+    if (r.coincident) status |= StepStatus::coincident_centres;
+    for (int d = 0; d < D; ++d) {
+      if (keep) s.pair_xi[d][c] = xi[d];
+      const double f = r.fn * r.normal[d] + r.ft[d];  // on j
+      a[d][i] -= f * m.inv_mass[i];
+      a[d][j] += f * m.inv_mass[j];
+    }
+    for (int k = 0; k < S; ++k) {
+      alpha[k][i] += r.torque_i[k] * m.inv_inertia[i];
+      alpha[k][j] += r.torque_j[k] * m.inv_inertia[j];
+    }
+    active += r.fn != 0.0 ? pair_contact_tag(n, i, j) : 0;
+  }
+  fold_contacts(w.contact_signature, active);
+  return status;
+}
+
+/// Stage 2: the grid's pair list rebuilt at x when stale. The records of the
+/// old list (its tangential springs) follow their pair (i, j) into the new
+/// one: both lists are sorted by (i, j), so one merge pass, in a fixed order.
+/// A rebuild that hits a capacity restores the old list and its records.
+template <int D>
+StepStatus granular_broad_phase(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
+  if (m.features.broad_phase != BroadPhase::grid) return StepStatus::ok;
+  if (s.pairs_valid && !moved_past_half_skin<D>(m, s, x, 0, m.n)) return StepStatus::ok;
+  const std::int32_t old_count = s.pair_count;
+  for (std::int32_t c = 0; c < old_count; ++c) {
+    w.old_pair_i[c] = s.pair_i[c];
+    w.old_pair_j[c] = s.pair_j[c];
+    for (int d = 0; d < D; ++d) w.old_pair_xi[d][c] = s.pair_xi[d][c];
+  }
+  const StepStatus built = build_pair_list<D>(m, s, w, x);
+  if (built != StepStatus::ok) {
+    for (std::int32_t c = 0; c < old_count; ++c) {
+      s.pair_i[c] = w.old_pair_i[c];
+      s.pair_j[c] = w.old_pair_j[c];
+      for (int d = 0; d < D; ++d) s.pair_xi[d][c] = w.old_pair_xi[d][c];
+      const PairParameters pp = pair_parameters(m, s.pair_i[c], s.pair_j[c]);
+      s.pair_stiffness[c] = pp.stiffness;
+      s.pair_eta[c] = pp.eta;
+    }
+    s.pair_count = old_count;
+    s.pairs_valid = old_count > 0 || s.list_builds > 0 ? 1 : 0;
+    return built;
+  }
+  std::int32_t o = 0;
+  for (std::int32_t c = 0; c < s.pair_count; ++c) {
+    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
+    while (o < old_count && (w.old_pair_i[o] < i || (w.old_pair_i[o] == i && w.old_pair_j[o] < j))) ++o;
+    const bool kept = o < old_count && w.old_pair_i[o] == i && w.old_pair_j[o] == j;
+    for (int d = 0; d < D; ++d) s.pair_xi[d][c] = kept ? w.old_pair_xi[d][o] : 0.0;
+  }
+  return StepStatus::ok;
+}
+
+/// Where an evaluation reads the state and writes its accelerations.
+template <int D>
+struct Views {
+  ConstColumns<D> x, v;
+  std::array<const double*, spin_components(D)> spin;
+  Columns<D> a;
+  std::array<double*, spin_components(D)> alpha;
+};
+
+/// Stages 2 and 3 at one state: broad phase at its positions, then its forces
+/// with the springs advanced by `offset` (kept or not), the contacts timed.
+template <int D>
+StepStatus evaluate_at(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, const Views<D>& at, double t,
+                       double offset, bool keep) {
+  const StepStatus built = granular_broad_phase<D>(m, s, w, at.x);
+  if (has(built, kStepNotTaken)) return built;
+  w.eval_time = t;
+  const std::int64_t start = w.clock_ns != nullptr ? w.clock_ns() : 0;
+  const StepStatus status =
+      built | granular_forces<D>(m, s, w, at.x, at.v, at.spin, at.a, at.alpha, t, offset, keep);
+  if (w.clock_ns != nullptr) w.profile.contacts_ns += w.clock_ns() - start;
+  return status;
+}
+
+template <int D>
+StepStatus granular_evaluate_current(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  Views<D> at;
+  for (int d = 0; d < D; ++d) {
+    at.x[d] = s.x[d].data();
+    at.v[d] = s.v[d].data();
+    at.a[d] = s.hist_a[s.history_head][d].data();
+  }
+  for (int k = 0; k < spin_components(D); ++k) {
+    at.spin[k] = s.w[k].data();
+    at.alpha[k] = s.hist_alpha[s.history_head][k].data();
+  }
+  const StepStatus status = evaluate_at<D>(m, s, w, at, s.time, 0.0, true);
+  // The head slot's copies of the rates (the multistep history reads them).
+  for (int d = 0; d < D; ++d) s.hist_v[s.history_head][d] = s.v[d];
+  for (int k = 0; k < spin_components(D); ++k) s.hist_w[s.history_head][k] = s.w[k];
+  return status;
+}
+
+namespace {
+
+/// Columns a one-step integrator advances: a coordinate q (position, or the
+/// 2D angle; none for a 3D orientation, which is not tracked), its rate
+/// q' (velocity, angular velocity) and the rate's rate q'' (acceleration,
+/// angular acceleration), with the trial copies the step writes.
+struct Column {
+  const double* q;  ///< nullptr: no coordinate kept
+  double* q1;
+  const double* rate;
+  double* rate_half;  ///< the kicked rate the evaluation sees
+  double* rate1;
+  const double* acc;  ///< at the step start
+  double* acc1;       ///< at the trial state
+  // RK4: the stage's coordinate, rate and acceleration, and the weighted sums.
+  double *qs, *rs, *as, *sq, *sr;
+  // ABM4: the history ring's rates and accelerations, newest (the head) first.
+  const double* rate_hist[4];
+  const double* acc_hist[4];
+};
+
+/// Which of the columns' copies an evaluation reads: an RK4 stage (qs, rs),
+/// the kicked trial state of Verlet and symplectic Euler (q1, rate_half), or
+/// the end of an RK4 step (q1, rate1). The acceleration goes to `as`, or acc1.
+enum class Copy { stage, kicked, final };
+
+template <int D>
+Views<D> views_of(const Column* cols, Copy copy) {
+  Views<D> at;
+  for (int k = 0; k < D + spin_components(D); ++k) {
+    const Column& c = cols[k];
+    const double* rate = copy == Copy::stage ? c.rs : copy == Copy::kicked ? c.rate_half : c.rate1;
+    double* acc = copy == Copy::stage ? c.as : c.acc1;
+    if (k < D) {
+      at.x[k] = copy == Copy::stage ? c.qs : c.q1;
+      at.v[k] = rate;
+      at.a[k] = acc;
+    } else {
+      at.spin[k - D] = rate;
+      at.alpha[k - D] = acc;
+    }
+  }
+  return at;
+}
+
+/// Classical RK4 over the columns (S3 at y_n + S2 h/2, as the frictionless
+/// rk4), then f(y_n+1) into acc1. The stages read the stored springs advanced
+/// by their own offset (h/2, h/2, h) without keeping them; the evaluation of
+/// y_n+1 keeps its springs, advanced by h with y_n+1's sliding velocity.
+/// The planes' impulse h/6 (F1 + 2F2 + 2F3 + F4) is left in w.plane_weighted.
+template <int D>
+StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count) {
+  const std::int32_t n = m.n;
+  const double h = m.dt, half = 0.5 * h, sixth = h / 6.0, t = s.time;
+  std::vector<double>& ledger = w.plane_weighted;
+  const double* f0 = s.hist_plane_force[s.history_head].data();
+  for (int c = 0; c < count; ++c) {
+    const Column& k = cols[c];
+    for (std::int32_t i = 0; i < n; ++i) {
+      k.sr[i] = k.acc[i];
+      k.rs[i] = k.rate[i] + half * k.acc[i];
+    }
+    if (k.q != nullptr)
+      for (std::int32_t i = 0; i < n; ++i) {
+        k.sq[i] = k.rate[i];
+        k.qs[i] = k.q[i] + half * k.rate[i];
+      }
+  }
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = f0[p];
+  StepStatus status = evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::stage), t + half, half, false);
+  if (has(status, kStepNotTaken)) return status;
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
+  for (int stage = 3; stage <= 4; ++stage) {
+    const double step = stage == 3 ? half : h;
+    for (int c = 0; c < count; ++c) {
+      const Column& k = cols[c];
+      for (std::int32_t i = 0; i < n; ++i) {
+        const double rate = k.rs[i], acc = k.as[i];
+        if (k.q != nullptr) {
+          k.sq[i] += 2.0 * rate;
+          k.qs[i] = k.q[i] + step * rate;
+        }
+        k.sr[i] += 2.0 * acc;
+        k.rs[i] = k.rate[i] + step * acc;
+      }
+    }
+    status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::stage), t + step, step, false);
+    if (has(status, kStepNotTaken)) return status;
+    if (stage == 3)
+      for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
+  }
+  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
+  for (int c = 0; c < count; ++c) {
+    const Column& k = cols[c];
+    for (std::int32_t i = 0; i < n; ++i) {
+      if (k.q != nullptr) k.q1[i] = k.q[i] + sixth * (k.sq[i] + k.rs[i]);
+      k.rate1[i] = k.rate[i] + sixth * (k.sr[i] + k.as[i]);
+    }
+  }
+  status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
+  return status;
+}
+
+}  // namespace
+
+/// One ABM4 PECE step over the columns (history complete), then f(y_n+1) into
+/// acc1: the prediction's evaluation reads the stored springs advanced by h
+/// without keeping them, the evaluation of y_n+1 keeps them. The planes'
+/// impulse of the corrector, h/24 (9 F* + 19 F_n − 5 F_n−1 + F_n−2), is left
+/// in w.plane_weighted.
+template <int D>
+StepStatus abm4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count) {
+  const std::int32_t n = m.n;
+  const double h = m.dt, c = h / 24.0, t = s.time;
+  for (int k = 0; k < count; ++k) {
+    const Column& col = cols[k];
+    const double *r0 = col.rate_hist[0], *r1 = col.rate_hist[1], *r2 = col.rate_hist[2], *r3 = col.rate_hist[3];
+    const double *a0 = col.acc_hist[0], *a1 = col.acc_hist[1], *a2 = col.acc_hist[2], *a3 = col.acc_hist[3];
+    if (col.q != nullptr)
+      for (std::int32_t i = 0; i < n; ++i) col.qs[i] = col.q[i] + c * (55.0 * r0[i] - 59.0 * r1[i] + 37.0 * r2[i] - 9.0 * r3[i]);
+    for (std::int32_t i = 0; i < n; ++i) col.rs[i] = col.rate[i] + c * (55.0 * a0[i] - 59.0 * a1[i] + 37.0 * a2[i] - 9.0 * a3[i]);
+  }
+  StepStatus status = evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::stage), t + h, h, false);
+  if (has(status, kStepNotTaken)) return status;
+  const int f0 = s.history_head, f1 = (f0 + 3) & 3, f2 = (f0 + 2) & 3;
+  for (std::size_t p = 0; p < w.plane_weighted.size(); ++p)
+    w.plane_weighted[p] = c * (9.0 * w.plane_force[p] + 19.0 * s.hist_plane_force[f0][p] -
+                               5.0 * s.hist_plane_force[f1][p] + s.hist_plane_force[f2][p]);
+  for (int k = 0; k < count; ++k) {
+    const Column& col = cols[k];
+    const double *r0 = col.rate_hist[0], *r1 = col.rate_hist[1], *r2 = col.rate_hist[2];
+    const double *a0 = col.acc_hist[0], *a1 = col.acc_hist[1], *a2 = col.acc_hist[2];
+    if (col.q != nullptr)
+      for (std::int32_t i = 0; i < n; ++i) col.q1[i] = col.q[i] + c * (9.0 * col.rs[i] + 19.0 * r0[i] - 5.0 * r1[i] + r2[i]);
+    for (std::int32_t i = 0; i < n; ++i)
+      col.rate1[i] = col.rate[i] + c * (9.0 * col.as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
+  }
+  status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
+  return status;
+}
+
+template <int D>
+StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
+  constexpr int S = spin_components(D);
+  const std::int32_t n = m.n;
+  const double h = m.dt, half = 0.5 * m.dt;
+  const bool verlet = m.integrator == DemIntegrator::verlet;
+  StepStatus status = StepStatus::ok;
+  if (s.history_count == 0) {
+    status |= granular_evaluate_current<D>(m, s, w);
+    if (has(status, kStepNotTaken)) return status;
+    s.hist_plane_force[s.history_head] = w.plane_force;
+    s.history_count = 1;
+  }
+  const double start_time = s.time;
+  const bool moment_booked = m.energy_check.interval > 0;
+  const double moment_start = moment_booked ? external_force_moment(m, s) : 0.0;
+  const double planes_start = plane_work_sum(s);
+
+  // The columns: translation, then rotation (the same updates).
+  Column cols[D + S];
+  for (int d = 0; d < D; ++d)
+    cols[d] = {s.x[d].data(), w.x1[d].data(), s.v[d].data(), w.vs[d].data(), w.v1[d].data(),
+               s.hist_a[s.history_head][d].data(), w.a0[d].data(), w.xs[d].data(), w.vs[d].data(),
+               w.as[d].data(), w.sum_x[d].data(), w.sum_v[d].data(), {}, {}};
+  for (int k = 0; k < S; ++k)
+    cols[D + k] = {nullptr, nullptr, s.w[k].data(), w.w1[k].data(), w.w1[k].data(), s.hist_alpha[s.history_head][k].data(),
+                   w.alpha1[k].data(), nullptr, w.ws[k].data(), w.alphas[k].data(), nullptr, w.sum_w[k].data(),
+                   {}, {}};
+  if constexpr (D == 2) {  // the angle turned: the coordinate of the 2D spin
+    cols[D].q = s.angle[0].data();
+    cols[D].q1 = w.angle1[0].data();
+    cols[D].qs = w.angle_s[0].data();
+    cols[D].sq = w.sum_angle[0].data();
+  }
+  // The history ring, newest first (ABM4 reads all four slots).
+  for (int age = 0; age < 4; ++age) {
+    const int slot = (s.history_head + 4 - age) & 3;
+    for (int d = 0; d < D; ++d) {
+      cols[d].rate_hist[age] = s.hist_v[slot][d].data();
+      cols[d].acc_hist[age] = s.hist_a[slot][d].data();
+    }
+    for (int k = 0; k < S; ++k) {
+      cols[D + k].rate_hist[age] = s.hist_w[slot][k].data();
+      cols[D + k].acc_hist[age] = s.hist_alpha[slot][k].data();
+    }
+  }
+  const bool abm4 = m.integrator == DemIntegrator::abm4 && s.history_count == 4;
+  // rk4, and abm4's three start steps.
+  const bool rk4 = m.integrator == DemIntegrator::rk4 || (m.integrator == DemIntegrator::abm4 && !abm4);
+  // The kicked rate: Verlet's translation keeps it apart (w.vs) from the final
+  // one, its rotation kicks w1 in place; symplectic Euler's is final.
+  if (!verlet)
+    for (int d = 0; d < D; ++d) cols[d].rate_half = w.v1[d].data();
+
+  if (abm4) {
+    // Stages 1-3 for the prediction and for y_n+1.
+    status |= abm4_columns<D>(m, s, w, cols, D + S);
+    if (has(status, kStepNotTaken)) return status;
+  } else if (rk4) {
+    // Stages 1-3 in each of the four RK4 stages and the evaluation of y_n+1.
+    status |= rk4_columns<D>(m, s, w, cols, D + S);
+    if (has(status, kStepNotTaken)) return status;
+  } else {
+    // Stage 1: kick and drift. Verlet: q' ← q' + h/2 q''; symplectic Euler: q' ← q' + h q''; then q ← q + h q'.
+    const double kick = verlet ? half : h;
+    for (const Column& c : cols) {
+      for (std::int32_t i = 0; i < n; ++i) c.rate_half[i] = c.rate[i] + kick * c.acc[i];
+      if (c.q != nullptr)
+        for (std::int32_t i = 0; i < n; ++i) c.q1[i] = c.q[i] + h * c.rate_half[i];
+    }
+
+    // Stages 2 and 3: broad phase and forces at the trial state (the dashpots
+    // and the springs see the kicked rates, as in the frictionless Verlet).
+    status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::kicked), s.time + h, h, true);
+    if (has(status, kStepNotTaken)) return status;
+    // Stage 4: Verlet's final kick q' ← q' + h/2 q''(trial).
+    if (verlet)
+      for (const Column& c : cols)
+        for (std::int32_t i = 0; i < n; ++i) c.rate1[i] = c.rate_half[i] + half * c.acc1[i];
+  }
+
+  // Stage 5: commit (swaps) and books.
+  // The planes' impulse with the integrator's weights: Verlet h/2 (F_n + F_n+1),
+  // Euler h F_n, RK4 and ABM4 their stages' (rk4_columns, abm4_columns).
+  const double* force_start = s.hist_plane_force[s.history_head].data();
+  for (std::size_t p = 0; p < s.plane_impulse.size(); ++p)
+    s.plane_impulse[p] += rk4 || abm4 ? w.plane_weighted[p]
+                          : verlet    ? half * (force_start[p] + w.plane_force[p])
+                                      : h * force_start[p];
+  // The new state, and its rates and accelerations into the next history slot.
+  const int slot = (s.history_head + 1) & 3;
+  for (int d = 0; d < D; ++d) {
+    s.x[d].swap(w.x1[d]);
+    s.v[d].swap(w.v1[d]);
+    s.hist_a[slot][d].swap(w.a0[d]);
+    s.hist_v[slot][d] = s.v[d];
+  }
+  for (int k = 0; k < S; ++k) {
+    s.w[k].swap(w.w1[k]);
+    s.hist_alpha[slot][k].swap(w.alpha1[k]);
+    s.hist_w[slot][k] = s.w[k];
+  }
+  if constexpr (D == 2) s.angle[0].swap(w.angle1[0]);
+  s.hist_plane_force[slot].swap(w.plane_force);
+  s.history_head = slot;
+  s.history_count = std::min(s.history_count + 1, 4);
+  ++s.step;
+  s.time = static_cast<double>(s.step) * m.dt;
+  if (m.features.broad_phase != BroadPhase::grid) {
+    ConstColumns<D> x;
+    for (int d = 0; d < D; ++d) x[d] = s.x[d].data();
+    s.network_omega2 = network_omega2<D>(m, s, w, x);
+  }
+  if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
+    status |= StepStatus::unstable_time_step;
+  // Finite: every column the step wrote, the springs and the step's inputs.
+  double probe = 0.0 * start_time + 0.0 * s.energy.reference + 0.0 * s.energy.work;
+  for (int d = 0; d < D; ++d) {
+    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
+    for (std::int32_t c = 0; c < s.pair_count; ++c) probe += 0.0 * s.pair_xi[d][c];
+    for (const double value : s.plane_xi[d]) probe += 0.0 * value;
+  }
+  for (int k = 0; k < S; ++k)
+    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.w[k][i] + 0.0 * s.hist_alpha[s.history_head][k][i];
+  for (const auto& c : s.angle)
+    for (const double value : c) probe += 0.0 * value;
+  for (std::size_t p = 0; p < s.plane_offset.size(); ++p)
+    probe += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
+  if (!(probe == 0.0)) status |= StepStatus::non_finite;
+  const double moment_end = moment_booked ? external_force_moment(m, s) : 0.0;
+  s.energy.work += (moment_end - moment_start) + (plane_work_sum(s) - planes_start);
+  if (energy_check_due(m.energy_check, s.step)) energy_check(s.energy, m.energy_check, energy_totals(m, s));
+  if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
+  return status;
+}
+
+#define XFDEM_INSTANTIATE(D)                                                                                       \
+  template StepStatus granular_step<D>(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&);                        \
+  template StepStatus granular_evaluate_current<D>(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&);            \
+  template ContactResult<D> pair_contact<D>(const DemModel<D>&, std::int32_t, std::int32_t, double, double,        \
+                                            const double (&)[D], double, const double (&)[D], const double (&)[D], \
+                                            const double*, const double*, double, double (&)[D]);                  \
+  template ContactResult<D> plane_contact<D>(const DemModel<D>&, std::int32_t, std::size_t, double, double,        \
+                                             const double (&)[D], const double*, double, double (&)[D]);
+XFDEM_INSTANTIATE(2)
+XFDEM_INSTANTIATE(3)
+#undef XFDEM_INSTANTIATE
+
+}  // namespace xfdem::dem_detail

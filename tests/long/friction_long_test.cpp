@@ -1,0 +1,72 @@
+// Deep run of the granular step (label `long`): a particle at rest on a slope
+// below the friction angle stays at rest for 1e6 steps (issue: rotating the
+// tangential history into the contact plane must not make it creep). The same
+// set-up as tests/dem/friction_test.cpp's 1e5-step RestOnSlope, on a slope
+// whose plane is not axis-aligned in 3D.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "xfdem/dem.hpp"
+
+namespace xfdem::testing {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+template <int D>
+void stays_at_rest() {
+  const double theta = 20 * kPi / 180, mu = 0.5, g = 9.81;
+  ASSERT_LT(std::tan(theta), mu);
+  DemDesc<D> d;
+  d.dt = 1e-5;
+  d.damping_ratio = 0.5;
+  d.friction = mu;
+  d.integrator = DemIntegrator::verlet;
+  d.gravity[1] = -g;
+  ParticleDesc<D> p;
+  p.mass = 1;
+  p.radius = 0.05;
+  p.stiffness = 1e6;
+  p.inertia = 1e12;  // a block: it cannot roll, the sticking spring alone holds it
+  // The slope's normal (−sin θ, cos θ) turned about y in 3D by 30°: no axis-aligned shortcut.
+  double normal[3] = {-std::sin(theta), std::cos(theta), 0};
+  if constexpr (D == 3) {
+    const double phi = kPi / 6, nx = normal[0];
+    normal[0] = std::cos(phi) * nx;
+    normal[2] = -std::sin(phi) * nx;
+  }
+  const double height = p.radius - p.mass * g * std::cos(theta) / p.stiffness;
+  PlaneDesc<D> plane;
+  for (int k = 0; k < D; ++k) {
+    p.position[k] = normal[k] * height;
+    plane.normal[k] = normal[k];
+  }
+  d.particles.push_back(p);
+  d.planes.push_back(plane);
+  DemWorld<D> world;
+  ASSERT_TRUE(world.build(d).ok());
+  double start[D];
+  for (int k = 0; k < D; ++k) start[k] = world.state.x[k][0];
+  const double stretch = g * std::sin(theta) / (kDefaultTangentialStiffnessRatio * p.stiffness);
+  double peak = 0;
+  for (int s = 0; s < 1000000; ++s) {
+    ASSERT_EQ(world.step(), StepStatus::ok);
+    double r2 = 0;
+    for (int k = 0; k < D; ++k) r2 += (world.state.x[k][0] - start[k]) * (world.state.x[k][0] - start[k]);
+    peak = std::max(peak, std::sqrt(r2));
+  }
+  double v2 = 0;
+  for (int k = 0; k < D; ++k) v2 += world.state.v[k][0] * world.state.v[k][0];
+  std::printf("D=%d 1e6 steps at rest: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n", D, peak,
+              stretch, std::sqrt(v2));
+  EXPECT_LE(peak, 2 * stretch);  // a suddenly loaded spring overshoots by at most its static stretch
+  EXPECT_LT(std::sqrt(v2), 1e-12);
+}
+
+TEST(FrictionLong, DiskBlockStaysAtRestOnASlopeForAMillionSteps) { stays_at_rest<2>(); }
+TEST(FrictionLong, SphereBlockStaysAtRestOnATiltedSlopeForAMillionSteps) { stays_at_rest<3>(); }
+
+}  // namespace
+}  // namespace xfdem::testing
