@@ -55,14 +55,20 @@ BENCHMARK_CAPTURE(BM_DemDrop, verlet, DemIntegrator::verlet);
 
 /// The second argument, when given, is the number of workers (1 or 2); a third,
 /// when given, overrides DemDesc::split_from (0: never split, 1: always).
-/// `energy_interval` ≥ 0 overrides EnergyCheck::interval.
-void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double skin_radii, int energy_interval = -1) {
+/// `energy_interval` ≥ 0 overrides EnergyCheck::interval; `friction`: the
+/// frictional law of dem_packing.hpp (a kernel with friction only).
+void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double skin_radii, int energy_interval = -1,
+                   bool friction = false) {
   const auto n = static_cast<std::int32_t>(bench.range(0));
   const Packing& pk = packing(n);
   DemDesc<3> desc = packing_run_desc(pk, integrator, skin_radii);
   const bool two_workers = bench.range(1) == 2;
   if (bench.range(2) >= 0) desc.split_from = static_cast<std::int32_t>(bench.range(2));
   if (energy_interval >= 0) desc.energy_check.interval = energy_interval;
+  if (friction && !set_packing_friction(desc)) {
+    bench.SkipWithError("this kernel has no friction");
+    return;
+  }
   DemModel<3> model;
   DemState<3> state;
   DemWorkspace<3> work;
@@ -132,6 +138,17 @@ BENCHMARK_CAPTURE(BM_DemPacking, verlet_energy_check_every_step, DemIntegrator::
 BENCHMARK_CAPTURE(BM_DemPacking, vs_liggghts, DemIntegrator::verlet, 0.0)
     ->ArgsProduct({{10000, 60000}, {1, 2}, {-1}})
     ->UseRealTime()->Unit(benchmark::kMicrosecond);
+// The same with Coulomb friction and rotation, registered when the kernel has
+// friction (tools/bench_liggghts.py --friction).
+[[maybe_unused]] const bool kFrictionRowsRegistered = [] {
+  if (!kHasFriction<DemDesc<3>>) return false;
+  benchmark::RegisterBenchmark("BM_DemPacking/vs_liggghts_friction",
+                               [](benchmark::State& bench) { BM_DemPacking(bench, DemIntegrator::verlet, 0.0, -1, true); })
+      ->ArgsProduct({{10000, 60000}, {1, 2}, {-1}})
+      ->UseRealTime()
+      ->Unit(benchmark::kMicrosecond);
+  return true;
+}();
 // Where two workers start to pay: the packing unsplit on one worker against
 // split on two, from 250 to 8000 particles (DemDesc::split_from's default).
 BENCHMARK_CAPTURE(BM_DemPacking, threshold, DemIntegrator::verlet, 0.0)

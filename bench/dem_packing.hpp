@@ -145,6 +145,33 @@ inline double contacts_per_particle(const DemModel<3>& model, const DemState<3>&
   return static_cast<double>(ends) / model.n;
 }
 
+/// Whether this kernel has Coulomb friction (DemDesc::friction and the
+/// tangential spring's stiffness ratio): the frictional packing rows exist
+/// only then.
+template <class Desc>
+constexpr bool kHasFriction = requires(Desc d) {
+  d.friction = 0.0;
+  d.tangential_stiffness_ratio = 0.0;
+};
+
+/// The frictional packing: μ = 0.5, k_t / k_n = 2/7 (a sphere's tangential
+/// contact oscillation then has the normal one's frequency).
+constexpr double kPackingFriction = 0.5;
+constexpr double kPackingTangentialRatio = 2.0 / 7.0;
+
+/// Gives a packing run the frictional law; false (nothing set) when the
+/// kernel has no friction.
+template <class Desc>
+bool set_packing_friction(Desc& desc) {
+  if constexpr (kHasFriction<Desc>) {
+    desc.friction = kPackingFriction;
+    desc.tangential_stiffness_ratio = kPackingTangentialRatio;
+    return true;
+  } else {
+    return false;
+  }
+}
+
 /// The packing as the benchmarks run it: ζ = 0.1, the given integrator and
 /// skin (in radii; 0: the kernel's default, half a radius). The caller may
 /// change more before build_packing_run().

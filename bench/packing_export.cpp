@@ -1,4 +1,4 @@
-// xfdem_packing_export N STEPS DIR
+// xfdem_packing_export N STEPS DIR [friction]
 //
 // Writes the dense settled packing of the packing benchmarks (dem_packing.hpp,
 // N spheres) to DIR/packing.txt, so that another code can run the same
@@ -6,11 +6,14 @@
 // the benchmarks run it (verlet, ζ = 0.1, dt a fifth of the stable step), on
 // one worker and on two, and writes the state after those steps to
 // DIR/xfdem_after.txt. Prints whether the two runs end with the same bits.
+// With `friction`, the frictional law of dem_packing.hpp (refused by a kernel
+// without friction).
 // Timings are not taken here (Google Benchmark: BM_DemPacking/vs_liggghts).
 //
 // packing.txt: "# key value" lines (n, radius, density, mass, stiffness,
 // damping_ratio, dt, side, top, and the contact parameters the kernel derived:
-// pair_stiffness, pair_eta, plane_stiffness, plane_eta), then one line
+// pair_stiffness, pair_eta, plane_stiffness, plane_eta; with friction also
+// friction and tangential_ratio), then one line
 // "x y z" per sphere in the kernel's particle order. xfdem_after.txt: one line
 // "x y z vx vy vz" per sphere, same order. Numbers in %.17g (round trip).
 #include <cerrno>
@@ -50,8 +53,13 @@ std::FILE* open_or_die(const std::string& path) {
 }
 
 /// Steps the packing `steps` times from rest; returns the state.
-DemState<3> run(const Packing& pk, long steps, bool two_workers, DemModel<3>& model, DemDesc<3>& desc) {
+DemState<3> run(const Packing& pk, long steps, bool two_workers, bool friction, DemModel<3>& model,
+                DemDesc<3>& desc) {
   desc = packing_run_desc(pk, DemIntegrator::verlet, 0.0);
+  if (friction && !set_packing_friction(desc)) {
+    std::fprintf(stderr, "xfdem_packing_export: this kernel has no friction (DemDesc::friction)\n");
+    std::exit(2);
+  }
   DemState<3> state;
   DemWorkspace<3> work;
   build_packing_run(desc, model, state, work);
@@ -65,8 +73,9 @@ DemState<3> run(const Packing& pk, long steps, bool two_workers, DemModel<3>& mo
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: xfdem_packing_export N STEPS DIR\n");
+  const bool friction = argc == 5 && std::string(argv[4]) == "friction";
+  if (argc != 4 && !friction) {
+    std::fprintf(stderr, "usage: xfdem_packing_export N STEPS DIR [friction]\n");
     return 2;
   }
   const auto n = static_cast<std::int32_t>(parse_count(argv[1], "N", 2));
@@ -76,10 +85,10 @@ int main(int argc, char** argv) {
 
   DemModel<3> model;
   DemDesc<3> desc;
-  const DemState<3> one = run(pk, steps, false, model, desc);
+  const DemState<3> one = run(pk, steps, false, friction, model, desc);
   DemModel<3> model2;
   DemDesc<3> desc2;
-  const DemState<3> two = run(pk, steps, true, model2, desc2);
+  const DemState<3> two = run(pk, steps, true, friction, model2, desc2);
 
   std::FILE* f = open_or_die(dir + "/packing.txt");
   // Equal spheres: springs in series K = k/2, m_eff = m/2, η = 2ζ√(K m_eff)
@@ -91,6 +100,7 @@ int main(int argc, char** argv) {
   std::fprintf(f, "# damping_ratio %.17g\n# dt %.17g\n# gravity %.17g\n# side %.17g\n# top %.17g\n", desc.damping_ratio,
                desc.dt, kGravity, pk.side, pk.top);
   std::fprintf(f, "# pair_stiffness %.17g\n# pair_eta %.17g\n# plane_stiffness %.17g\n# plane_eta %.17g\n", pair_stiffness, pair_eta, model.stiffness[0], model.plane_eta[0]);
+  if (friction) std::fprintf(f, "# friction %.17g\n# tangential_ratio %.17g\n", kPackingFriction, kPackingTangentialRatio);
   for (const auto& p : pk.position) std::fprintf(f, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
   std::fclose(f);
 

@@ -33,8 +33,12 @@ Young's modulus and an impact velocity, and `hertz` is another law. The
 integrator (nve/sphere) is velocity Verlet whose dashpot sees the half-step
 velocity, as the kernel's `verlet`.
 
-Friction (--friction): waits for the kernel's frictional law; the LIGGGHTS
-side would be `model hertz tangential history` against the kernel's Hertz law.
+Friction (--friction, when the kernel has DemDesc::friction): mu = 0.5,
+k_t = 2/7 k_n, against `model hooke/stiffness tangential history` (the same
+Cundall-Strack spring: k_t given per type pair, capped at mu |F_n| and reset
+to the cap when sliding, dashpot gamma_t = 2 zeta sqrt(k_t m_eff) while
+sticking). The kernel's Hertz-Mindlin law against `model hertz tangential
+history` waits for that law.
 
 Nothing is installed: if `liggghts` or `mpirun` is missing, the script says
 what to apt-get and stops.
@@ -72,7 +76,7 @@ def read_packing(path):
     return meta, np.array(rows)
 
 
-def write_liggghts(directory, meta, x, steps, ranks):
+def write_liggghts(directory, meta, x, steps):
     """Data file and input script for the packing; returns the input's path."""
     r, side, top = meta["radius"], meta["side"], meta["top"]
     margin = 2 * r  # the box holds the walls; particles never reach its faces
@@ -84,7 +88,17 @@ def write_liggghts(directory, meta, x, steps, ranks):
             f.write("%d 1 %r %r %r %r %r\n" % (i + 1, 2 * r, meta["density"], p[0], p[1], p[2]))
     kp, kw = meta["pair_stiffness"], meta["plane_stiffness"]
     ep, ew = meta["pair_eta"], meta["plane_eta"]
-    model = "model hooke/stiffness tangential no_history"
+    mu = meta.get("friction", 0.0)
+    if mu > 0:
+        # Cundall-Strack spring k_t = ratio k_n, capped at mu |F_n| (reset to
+        # the cap when sliding), dashpot 2 zeta sqrt(k_t m_eff) while sticking.
+        ratio, zeta, m = meta["tangential_ratio"], meta["damping_ratio"], meta["mass"]
+        ktp, ktw = ratio * kp, ratio * kw
+        etp, etw = 2 * zeta * math.sqrt(ktp * 0.5 * m), 2 * zeta * math.sqrt(ktw * m)
+        model = "model hooke/stiffness tangential history"
+    else:
+        ktp = ktw = etp = etw = 0.0
+        model = "model hooke/stiffness tangential no_history"
     walls = [("xplane", 0.0), ("xplane", side), ("yplane", 0.0), ("yplane", side), ("zplane", 0.0), ("zplane", top)]
     lines = [
         "atom_style granular",
@@ -100,10 +114,10 @@ def write_liggghts(directory, meta, x, steps, ranks):
         "neigh_modify delay 0",
         # type 1: the spheres; type 2: the walls
         "fix m1 all property/global kn peratomtypepair 2 %r %r %r %r" % (kp, kw, kw, kw),
-        "fix m2 all property/global kt peratomtypepair 2 0 0 0 0",
+        "fix m2 all property/global kt peratomtypepair 2 %r %r %r %r" % (ktp, ktw, ktw, ktw),
         "fix m3 all property/global gamman_abs peratomtypepair 2 %r %r %r %r" % (ep, ew, ew, ew),
-        "fix m4 all property/global gammat_abs peratomtypepair 2 0 0 0 0",
-        "fix m5 all property/global coefficientFriction peratomtypepair 2 0 0 0 0",
+        "fix m4 all property/global gammat_abs peratomtypepair 2 %r %r %r %r" % (etp, etw, etw, etw),
+        "fix m5 all property/global coefficientFriction peratomtypepair 2 %r %r %r %r" % (mu, mu, mu, mu),
         "pair_style gran %s absolute_damping on" % model,
         "pair_coeff * *",
         "timestep %r" % meta["dt"],
@@ -165,8 +179,8 @@ def mean_overlap(x, r):
     return float(overlap.mean()), 2.0 * len(pairs) / len(x)
 
 
-def run_ours(bench, n, repetitions):
-    filt = "BM_DemPacking/vs_liggghts/%d/[12]/-1/real_time$" % n
+def run_ours(bench, row, n, repetitions):
+    filt = "BM_DemPacking/%s/%d/[12]/-1/real_time$" % (row, n)
     cmd = [bench, "--benchmark_filter=" + filt, "--benchmark_repetitions=%d" % repetitions,
            "--benchmark_format=json"]
     done = subprocess.run(cmd, capture_output=True, text=True)
@@ -185,6 +199,40 @@ def run_ours(bench, n, repetitions):
     return out, " ".join(cmd[:3])
 
 
+def measure(args, n, friction, export, bench, mpirun_extra):
+    """One packing size, one law: both codes' timings and states."""
+    work = args.keep and os.path.join(args.keep, "%d%s" % (n, "_friction" if friction else ""))
+    if work:
+        os.makedirs(work, exist_ok=True)
+    tmp = None if work else tempfile.TemporaryDirectory(prefix="bench_liggghts_")
+    directory = work or tmp.name
+    cmd = [export, str(n), str(args.steps), directory] + (["friction"] if friction else [])
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode not in (0, 1):
+        fail("xfdem_packing_export failed:\n" + done.stderr, 1)
+    same_bits = "same_bits_1_vs_2_workers yes" in done.stdout
+    meta, x0 = read_packing(os.path.join(directory, "packing.txt"))
+    write_liggghts(directory, meta, x0, args.steps)
+    runs = [run_liggghts(directory, args.ranks, mpirun_extra) for _ in range(args.repetitions)]
+    lig = sorted(runs, key=lambda run: run["loop_s"])[len(runs) // 2]  # the median run
+    xl, vl = read_dump_last(os.path.join(directory, "after.dump"), n)
+    ours_after = np.loadtxt(os.path.join(directory, "xfdem_after.txt"))
+    xo, vo = ours_after[:, 0:3], ours_after[:, 3:6]
+    m, r = meta["mass"], meta["radius"]
+    physics = {
+        "ke_ours": 0.5 * m * float((vo * vo).sum()), "ke_lig": 0.5 * m * float((vl * vl).sum()),
+        "overlap_ours": mean_overlap(xo, r), "overlap_lig": mean_overlap(xl, r),
+        "moved": float(np.linalg.norm(xo - x0, axis=1).max()),
+        "differ": float(np.linalg.norm(xo - xl, axis=1).max()),
+    }
+    ours, bench_cmd = run_ours(bench, "vs_liggghts_friction" if friction else "vs_liggghts", n, args.repetitions)
+    if tmp:
+        tmp.cleanup()
+    label = "mu %g" % meta["friction"] if friction else "frictionless"
+    return {"n": n, "law": label, "meta": meta, "lig": lig, "ours": ours, "physics": physics, "same_bits": same_bits,
+            "bench_cmd": bench_cmd}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", type=int, nargs="+", default=[10000, 60000])
@@ -192,14 +240,11 @@ def main():
     ap.add_argument("--repetitions", type=int, default=3, help="runs of each code (median)")
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
-    ap.add_argument("--keep", help="keep the LIGGGHTS files in this directory")
-    ap.add_argument("--friction", action="store_true", help="the frictional comparison (waits for the kernel)")
+    ap.add_argument("--keep", help="keep the files of each run in this directory")
+    ap.add_argument("--friction", action="store_true",
+                    help="also the frictional packing (when the kernel has friction)")
     args = ap.parse_args()
 
-    if args.friction:
-        print("friction: waiting. The kernel has no Hertz-Mindlin law yet; when it has, this compares it with\n"
-              "LIGGGHTS `model hertz tangential history` on the same packing.")
-        return 3
     for tool, package in (("liggghts", "liggghts"), ("mpirun", "openmpi-bin")):
         if shutil.which(tool) is None:
             fail("'%s' not found. Install it with:  sudo apt-get install %s\n"
@@ -214,76 +259,65 @@ def main():
     # 2 ranks start on a machine that reports fewer slots.
     mpirun_extra = ["--oversubscribe"] + (["--allow-run-as-root"] if os.geteuid() == 0 else [])
 
-    load_before = os.getloadavg()
-    results = []
-    for n in args.sizes:
-        work = args.keep and os.path.join(args.keep, str(n))
-        if work:
-            os.makedirs(work, exist_ok=True)
-        tmp = None if work else tempfile.TemporaryDirectory(prefix="bench_liggghts_")
-        directory = work or tmp.name
-        done = subprocess.run([export, str(n), str(args.steps), directory], capture_output=True, text=True)
-        if done.returncode not in (0, 1):
-            fail("xfdem_packing_export failed:\n" + done.stderr, 1)
-        same_bits = "same_bits_1_vs_2_workers yes" in done.stdout
-        meta, x0 = read_packing(os.path.join(directory, "packing.txt"))
-        write_liggghts(directory, meta, x0, args.steps, args.ranks)
-        runs = [run_liggghts(directory, args.ranks, mpirun_extra) for _ in range(args.repetitions)]
-        lig = sorted(runs, key=lambda run: run["loop_s"])[len(runs) // 2]  # the median run
-        xl, vl = read_dump_last(os.path.join(directory, "after.dump"), n)
-        ours_after = np.loadtxt(os.path.join(directory, "xfdem_after.txt"))
-        xo, vo = ours_after[:, 0:3], ours_after[:, 3:6]
-        m, r = meta["mass"], meta["radius"]
-        physics = {
-            "ke_ours": 0.5 * m * float((vo * vo).sum()), "ke_lig": 0.5 * m * float((vl * vl).sum()),
-            "overlap_ours": mean_overlap(xo, r), "overlap_lig": mean_overlap(xl, r),
-            "moved": float(np.linalg.norm(xo - x0, axis=1).max()),
-            "differ": float(np.linalg.norm(xo - xl, axis=1).max()),
-        }
-        ours, bench_cmd = run_ours(bench, n, args.repetitions)
-        results.append((n, meta, lig, ours, physics, same_bits))
-        if tmp:
-            tmp.cleanup()
+    laws = [False]
+    notes = ["Hertz-Mindlin (`model hertz tangential history`): waiting, the kernel has no Hertz law yet."]
+    if args.friction:
+        listed = subprocess.run([bench, "--benchmark_list_tests", "--benchmark_filter=vs_liggghts_friction"],
+                                capture_output=True, text=True).stdout
+        if "vs_liggghts_friction" in listed:
+            laws.append(True)
+        else:
+            notes.insert(0, "Friction: waiting, this kernel has no Coulomb friction (DemDesc::friction).")
 
+    load_before = os.getloadavg()
+    results = [measure(args, n, friction, export, bench, mpirun_extra) for friction in laws for n in args.sizes]
     load_after = os.getloadavg()
-    print("Dense settled packing, frictionless linear law. LIGGGHTS: %d steps on %d MPI ranks, the median of %d runs;"
-          " xfdem: Google Benchmark, median of %d." % (args.steps, args.ranks, args.repetitions, args.repetitions))
+
+    print("Dense settled packing. LIGGGHTS: %d steps on %d MPI ranks, the median of %d runs; xfdem:"
+          " Google Benchmark, median of %d." % (args.steps, args.ranks, args.repetitions, args.repetitions))
     print("Machine: %d cores; load average (1 min) %.1f before, %.1f after." % (
         os.cpu_count(), load_before[0], load_after[0]))
     print("ns per particle-step (wall time):\n")
-    print("| N | dt (us) | LIGGGHTS %d ranks | xfdem 1 worker | xfdem 2 workers | LIGGGHTS / xfdem 2 | "
+    print("| law | N | dt (us) | LIGGGHTS %d ranks | xfdem 1 worker | xfdem 2 workers | LIGGGHTS / xfdem 2 | "
           "2 vs 1 worker | same bits 1 vs 2 |" % args.ranks)
-    print("|---:|---:|---:|---:|---:|---:|---:|---|")
-    for n, meta, lig, ours, physics, same_bits in results:
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---|")
+    for res in results:
+        lig, ours = res["lig"], res["ours"]
         lig_ns = lig["loop_s"] / (lig["atoms"] * lig["steps"]) * 1e9
-        print("| %d | %.2f | %.1f | %.1f | %.1f | %.2fx | %.2fx | %s |" % (
-            n, meta["dt"] * 1e6, lig_ns, ours[1]["ns"], ours[2]["ns"], lig_ns / ours[2]["ns"],
-            ours[1]["ns"] / ours[2]["ns"], "yes" if same_bits else "NO"))
+        print("| %s | %d | %.2f | %.1f | %.1f | %.1f | %.2fx | %.2fx | %s |" % (
+            res["law"], res["n"], res["meta"]["dt"] * 1e6, lig_ns, ours[1]["ns"], ours[2]["ns"],
+            lig_ns / ours[2]["ns"], ours[1]["ns"] / ours[2]["ns"], "yes" if res["same_bits"] else "NO"))
     print("\nWhere the time goes, ns per particle-step. LIGGGHTS: its timing breakdown (Other holds the fixes:"
           " integration, walls, gravity); xfdem: the kernel's stage profile (separate untimed run):\n")
-    print("| N | code | stages | total |")
-    print("|---:|---|---|---:|")
-    for n, meta, lig, ours, physics, same_bits in results:
+    print("| law | N | code | stages | total |")
+    print("|---|---:|---|---|---:|")
+    for res in results:
+        lig, ours = res["lig"], res["ours"]
         per = 1e9 / (lig["atoms"] * lig["steps"])
         split = ", ".join("%s %.1f" % (k, v * per) for k, v in lig["stages"].items())
-        print("| %d | LIGGGHTS %d ranks | %s; %d list builds | %.1f |" % (
-            n, args.ranks, split, lig["builds"], lig["loop_s"] * per))
+        print("| %s | %d | LIGGGHTS %d ranks | %s; %d list builds | %.1f |" % (
+            res["law"], res["n"], args.ranks, split, lig["builds"], lig["loop_s"] * per))
         for w in (1, 2):
             o = ours[w]
-            print("| %d | xfdem %d worker%s | broad phase %.1f, contacts %.1f, integration %.1f | %.1f |" % (
-                n, w, "s" if w == 2 else "", o["broad"], o["contact_stage"], o["integration"], o["ns"]))
-    print("\nSame physics after %d steps from rest (mean overlap over touching pairs; largest |x_xfdem - x_LIGGGHTS|"
-          " against the largest displacement):\n" % args.steps)
-    print("| N | kinetic energy xfdem (J) | LIGGGHTS (J) | mean overlap xfdem (um) | LIGGGHTS (um) | "
+            print("| %s | %d | xfdem %d worker%s | broad phase %.1f, contacts %.1f, integration %.1f | %.1f |" % (
+                res["law"], res["n"], w, "s" if w == 2 else "", o["broad"], o["contact_stage"], o["integration"],
+                o["ns"]))
+    print("\nSame physics after %d steps from rest (mean overlap over touching pairs; kinetic energy of translation;"
+          " largest |x_xfdem - x_LIGGGHTS| against the largest displacement):\n" % args.steps)
+    print("| law | N | kinetic energy xfdem (J) | LIGGGHTS (J) | mean overlap xfdem (um) | LIGGGHTS (um) | "
           "touching pairs x2 / N, xfdem | LIGGGHTS | max position difference (um) | max displacement (um) |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for n, meta, lig, ours, p, same_bits in results:
-        print("| %d | %.4e | %.4e | %.4f | %.4f | %.2f | %.2f | %.3g | %.3g |" % (
-            n, p["ke_ours"], p["ke_lig"], p["overlap_ours"][0] * 1e6, p["overlap_lig"][0] * 1e6,
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for res in results:
+        p = res["physics"]
+        print("| %s | %d | %.6e | %.6e | %.4f | %.4f | %.2f | %.2f | %.3g | %.3g |" % (
+            res["law"], res["n"], p["ke_ours"], p["ke_lig"], p["overlap_ours"][0] * 1e6, p["overlap_lig"][0] * 1e6,
             p["overlap_ours"][1], p["overlap_lig"][1], p["differ"] * 1e6, p["moved"] * 1e6))
-    print("\nLIGGGHTS: %s (in a directory holding packing.data and in.packing)" % results[0][2]["command"])
-    print("xfdem: %s" % bench_cmd)
-    return 0 if all(r[5] for r in results) else 1
+    print()
+    for note in notes:
+        print(note)
+    print("LIGGGHTS: %s (in a directory holding packing.data and in.packing)" % results[0]["lig"]["command"])
+    print("xfdem: %s" % results[0]["bench_cmd"])
+    return 0 if all(res["same_bits"] for res in results) else 1
 
 
 if __name__ == "__main__":
