@@ -1,4 +1,4 @@
-// xfdem_packing_export N STEPS DIR [friction]
+// xfdem_packing_export N STEPS DIR [friction] [one_worker]
 //
 // Writes the dense settled packing of the packing benchmarks (dem_packing.hpp,
 // N spheres) to DIR/packing.txt, so that another code can run the same
@@ -7,7 +7,8 @@
 // one worker and on two, and writes the state after those steps to
 // DIR/xfdem_after.txt. Prints whether the two runs end with the same bits.
 // With `friction`, the frictional law of dem_packing.hpp (refused by a kernel
-// without friction).
+// without friction); with `one_worker`, no two-worker run (for instruction
+// counts: callgrind runs the workers' threads one at a time).
 // Timings are not taken here (Google Benchmark: BM_DemPacking/vs_liggghts).
 //
 // packing.txt: "# key value" lines (n, radius, density, mass, stiffness,
@@ -73,9 +74,20 @@ DemState<3> run(const Packing& pk, long steps, bool two_workers, bool friction, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool friction = argc == 5 && std::string(argv[4]) == "friction";
-  if (argc != 4 && !friction) {
-    std::fprintf(stderr, "usage: xfdem_packing_export N STEPS DIR [friction]\n");
+  bool friction = false, one_worker = false;
+  for (int k = 4; k < argc; ++k) {
+    const std::string option = argv[k];
+    if (option == "friction") {
+      friction = true;
+    } else if (option == "one_worker") {
+      one_worker = true;
+    } else {
+      std::fprintf(stderr, "xfdem_packing_export: unknown option '%s' (friction, one_worker)\n", argv[k]);
+      return 2;
+    }
+  }
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: xfdem_packing_export N STEPS DIR [friction] [one_worker]\n");
     return 2;
   }
   const auto n = static_cast<std::int32_t>(parse_count(argv[1], "N", 2));
@@ -88,7 +100,7 @@ int main(int argc, char** argv) {
   const DemState<3> one = run(pk, steps, false, friction, model, desc);
   DemModel<3> model2;
   DemDesc<3> desc2;
-  const DemState<3> two = run(pk, steps, true, friction, model2, desc2);
+  const DemState<3> two = one_worker ? one : run(pk, steps, true, friction, model2, desc2);
 
   std::FILE* f = open_or_die(dir + "/packing.txt");
   // Equal spheres: springs in series K = k/2, m_eff = m/2, η = 2ζ√(K m_eff)
@@ -110,6 +122,10 @@ int main(int argc, char** argv) {
                  one.v[1][i], one.v[2][i]);
   std::fclose(f);
 
+  if (one_worker) {
+    std::printf("steps %ld\nsplit %d\n", steps, model.parts);
+    return 0;
+  }
   const bool same = state_hash(one) == state_hash(two);
   std::printf("steps %ld\nsplit %d\nsame_bits_1_vs_2_workers %s\nstate_hash_1 %016llx\nstate_hash_2 %016llx\n", steps,
               model.parts, same ? "yes" : "no", static_cast<unsigned long long>(state_hash(one)),

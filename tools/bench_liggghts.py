@@ -3,6 +3,7 @@
 
     /usr/bin/python3 tools/bench_liggghts.py [--sizes 10000 60000] [--steps 1000]
                                              [--repetitions 3] [--build build/release]
+                                             [--instructions 10000] [--friction]
 
 For each size N:
   1. xfdem_packing_export writes the packing of the packing benchmarks
@@ -18,7 +19,9 @@ For each size N:
      Google Benchmark, median of --repetitions); its counters give ns per
      particle-step and the kernel's stage profile (broad phase, contacts,
      integration).
-  4. Same physics: the two codes' states after --steps steps are compared
+  4. With --instructions N: instructions per particle-step of both codes on
+     one core under callgrind (a figure the machine's load does not change).
+  5. Same physics: the two codes' states after --steps steps are compared
      (kinetic energy, mean overlap of touching pairs, largest position
      difference against the largest displacement).
 
@@ -179,6 +182,36 @@ def mean_overlap(x, r):
     return float(overlap.mean()), 2.0 * len(pairs) / len(x)
 
 
+def callgrind_refs(cmd, cwd):
+    """Instructions executed by cmd under callgrind (its 'I refs' total)."""
+    done = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null"] + cmd, cwd=cwd,
+                          capture_output=True, text=True)
+    found = re.search(r"I\s+refs:\s+([0-9,]+)", done.stderr)
+    if done.returncode != 0 or not found:
+        fail("callgrind failed on %s:\n%s" % (" ".join(cmd), done.stderr[-3000:]), 1)
+    return int(found.group(1).replace(",", ""))
+
+
+def instructions(n, friction, export, directory, meta, x0):
+    """Instructions per particle-step on one core (LIGGGHTS 1 rank, xfdem 1
+    worker), from the difference of a 60- and a 10-step run under callgrind,
+    so that reading, setup and the packing's generation cancel: a count the
+    machine's load does not change."""
+    lo, hi = 10, 60
+    counts = {}
+    for steps in (lo, hi):
+        write_liggghts(directory, meta, x0, steps)
+        lig = callgrind_refs(["liggghts", "-in", "in.packing", "-echo", "none", "-log", "none", "-screen", "none"],
+                             directory)
+        ours_dir = os.path.join(directory, "ir_%d" % steps)
+        os.makedirs(ours_dir, exist_ok=True)
+        ours = callgrind_refs([export, str(n), str(steps), ours_dir, "one_worker"] + (["friction"] if friction else []),
+                              directory)
+        counts[steps] = (lig, ours)
+    per = 1.0 / ((hi - lo) * n)
+    return {"lig": (counts[hi][0] - counts[lo][0]) * per, "ours": (counts[hi][1] - counts[lo][1]) * per}
+
+
 def run_ours(bench, row, n, repetitions):
     filt = "BM_DemPacking/%s/%d/[12]/-1/real_time$" % (row, n)
     cmd = [bench, "--benchmark_filter=" + filt, "--benchmark_repetitions=%d" % repetitions,
@@ -226,11 +259,12 @@ def measure(args, n, friction, export, bench, mpirun_extra):
         "differ": float(np.linalg.norm(xo - xl, axis=1).max()),
     }
     ours, bench_cmd = run_ours(bench, "vs_liggghts_friction" if friction else "vs_liggghts", n, args.repetitions)
+    ir = instructions(n, friction, export, directory, meta, x0) if n in args.instructions else None
     if tmp:
         tmp.cleanup()
     label = "mu %g" % meta["friction"] if friction else "frictionless"
     return {"n": n, "law": label, "meta": meta, "lig": lig, "ours": ours, "physics": physics, "same_bits": same_bits,
-            "bench_cmd": bench_cmd}
+            "bench_cmd": bench_cmd, "ir": ir}
 
 
 def main():
@@ -241,11 +275,16 @@ def main():
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
     ap.add_argument("--keep", help="keep the files of each run in this directory")
+    ap.add_argument("--instructions", type=int, nargs="*", default=[], metavar="N",
+                    help="also count instructions per particle-step under callgrind at these sizes (slow)")
     ap.add_argument("--friction", action="store_true",
                     help="also the frictional packing (when the kernel has friction)")
     args = ap.parse_args()
 
-    for tool, package in (("liggghts", "liggghts"), ("mpirun", "openmpi-bin")):
+    needed = [("liggghts", "liggghts"), ("mpirun", "openmpi-bin")]
+    if args.instructions:
+        needed.append(("valgrind", "valgrind"))
+    for tool, package in needed:
         if shutil.which(tool) is None:
             fail("'%s' not found. Install it with:  sudo apt-get install %s\n"
                  "(Debian's liggghts package brings Open MPI; nothing is installed by this script)" % (tool, package))
@@ -312,6 +351,16 @@ def main():
         print("| %s | %d | %.6e | %.6e | %.4f | %.4f | %.2f | %.2f | %.3g | %.3g |" % (
             res["law"], res["n"], p["ke_ours"], p["ke_lig"], p["overlap_ours"][0] * 1e6, p["overlap_lig"][0] * 1e6,
             p["overlap_ours"][1], p["overlap_lig"][1], p["differ"] * 1e6, p["moved"] * 1e6))
+    counted = [res for res in results if res["ir"]]
+    if counted:
+        print("\nInstructions per particle-step on one core (callgrind, 60 minus 10 steps; LIGGGHTS 1 rank, xfdem 1"
+              " worker; independent of the machine's load):\n")
+        print("| law | N | LIGGGHTS | xfdem | LIGGGHTS / xfdem |")
+        print("|---|---:|---:|---:|---:|")
+        for res in counted:
+            ir = res["ir"]
+            print("| %s | %d | %.0f | %.0f | %.2fx |" % (res["law"], res["n"], ir["lig"], ir["ours"],
+                                                         ir["lig"] / ir["ours"]))
     print()
     for note in notes:
         print(note)
