@@ -2,8 +2,11 @@
 //
 // BM_DemDrop:    the V1 drop test (one sphere on a plane, 1D), per step.
 // BM_DemPacking: a dense 3D packing of N equal spheres settled under gravity in
-//                a box of six planes; counters report ns per particle-step,
-//                mean contacts per particle and pair-list rebuilds per step.
+//                a box of six planes (bench/dem_packing.hpp); counters report
+//                ns per particle-step, mean contacts per particle, pair-list
+//                rebuilds per step and the kernel's stage profile (broad
+//                phase, contacts, integration, ns per particle-step). The
+//                vs_liggghts rows are the ones tools/bench_liggghts.py runs.
 //
 // Every benchmark starts each batch of steps from the same warm snapshot (a
 // copy of DemState), as MuJoCo's step benchmark does, so that the work timed
