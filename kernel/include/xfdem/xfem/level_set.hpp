@@ -54,3 +54,54 @@ struct TrianglePiece {
 int split_triangle(const Point2 t[3], const double phi[3], TrianglePiece out[3]);
 
 }  // namespace xfdem::xfem
+
+namespace xfdem::xfem {
+
+// ---- Near a crack tip ------------------------------------------------------
+// The building blocks of tip enrichment and of the interaction integral: the
+// tip's local frame, the four branch functions and the Williams near-tip
+// fields. The plate does not use them yet (tips are refused); they are here,
+// tested, for the tip enrichment of issue 16.
+
+/// A crack tip's local frame: the origin at the tip, local x along the crack's
+/// direction at the tip pointing out of the crack (θ = 0 ahead of the tip, the
+/// faces at θ = ±π), local y to its left.
+struct TipFrame {
+  Point2 origin{};
+  double cos_a = 1.0, sin_a = 0.0;  ///< the local x axis in global coordinates
+};
+
+/// The frame of the first (at_end false) or last (at_end true) point of a
+/// polyline of at least two distinct points. At the first point the local x
+/// axis is the reverse of the first segment's direction, so local y is then
+/// on the polyline's right.
+TipFrame tip_frame(const std::vector<Point2>& points, bool at_end);
+
+/// Polar coordinates (r, θ) of x in the tip frame, θ in (−π, π] (atan2).
+void tip_polar(const TipFrame& frame, Point2 x, double& r, double& theta);
+
+/// The four branch functions √r{sin(θ/2), cos(θ/2), sin(θ/2) sin θ,
+/// cos(θ/2) sin θ} at x and their gradients in global coordinates
+/// (grad[i] = {∂F_i/∂x, ∂F_i/∂y}). At the tip itself (r = 0) the values are 0
+/// and the gradients are set to 0 (they are unbounded there; a quadrature
+/// point never sits on the tip).
+void branch_functions(const TipFrame& frame, Point2 x, double value[4], double grad[4][2]);
+
+/// Kolosov's constant κ: 3 − 4ν in plane strain, (3 − ν)/(1 + ν) in plane stress.
+inline double kolosov(double poisson, bool plane_strain) {
+  return plane_strain ? 3.0 - 4.0 * poisson : (3.0 - poisson) / (1.0 + poisson);
+}
+
+/// The Williams (leading-term) near-tip fields of a straight crack with
+/// stress intensity factors k1, k2 (Pa·√m), shear modulus mu and Kolosov's
+/// κ, at polar coordinates (r > 0, θ) in the tip frame, all in the tip frame:
+/// displacement u, its gradient grad_u[i][j] = ∂u_i/∂x_j, and stress
+/// {σ_xx, σ_yy, σ_xy}.
+struct WilliamsField {
+  double u[2];
+  double grad_u[2][2];
+  double stress[3];
+};
+WilliamsField williams_field(double k1, double k2, double mu, double kappa, double r, double theta);
+
+}  // namespace xfdem::xfem
