@@ -154,3 +154,42 @@ TEST(CrackTip, BranchFunctionsSpanTheWilliamsDisplacements) {
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(a);
   EXPECT_GT(svd.singularValues()(3), 1e-3 * svd.singularValues()(0));
 }
+
+// The domain interaction integral of the exact Williams field (K_I, K_II)
+// recovers K_I and K_II: integrated on a polar Gauss grid over an annulus
+// r1 < r < r2 with q = (r2 − r)/(r2 − r1) (q = 1 inside r1 contributes
+// nothing: ∇q = 0), for two annuli (the integral is domain independent).
+TEST(CrackTip, InteractionIntegralOfTheWilliamsFieldGivesItsK) {
+  // Gauss-Legendre, 8 points on [−1, 1].
+  const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+                        0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+  const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+                        0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  const double E = 2e11, nu = 0.3, mu = E / (2 * (1 + nu));
+  for (bool strain : {true, false}) {
+    const double kappa = kolosov(nu, strain), e_star = strain ? E / (1 - nu * nu) : E;
+    for (auto [k1, k2] : {std::pair{1e6, 0.0}, std::pair{0.0, 1e6}, std::pair{7e5, -4e5}})
+      for (auto [r1, r2] : {std::pair{0.02, 0.1}, std::pair{0.05, 0.4}}) {
+        double i_mode[2] = {0, 0};
+        const int n_theta = 16;  // panels in θ, 8 points each
+        for (int mode = 0; mode < 2; ++mode)
+          for (int a = 0; a < 8; ++a) {
+            const double r = 0.5 * (r1 + r2) + 0.5 * (r2 - r1) * gx[a];
+            for (int p = 0; p < n_theta; ++p)
+              for (int b = 0; b < 8; ++b) {
+                const double t0 = -kPi + 2 * kPi * p / n_theta, t1 = -kPi + 2 * kPi * (p + 1) / n_theta;
+                const double t = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * gx[b];
+                const double weight = 0.5 * (r2 - r1) * gw[a] * 0.5 * (t1 - t0) * gw[b] * r;
+                const WilliamsField act = williams_field(k1, k2, mu, kappa, r, t);
+                const WilliamsField aux = williams_field(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mu, kappa, r, t);
+                const double dq_dr = -1.0 / (r2 - r1);
+                const double gq[2] = {dq_dr * std::cos(t), dq_dr * std::sin(t)};
+                i_mode[mode] += weight * interaction_integrand(act.stress, act.grad_u, aux, gq);
+              }
+          }
+        const double scale = std::hypot(k1, k2);
+        EXPECT_NEAR(0.5 * e_star * i_mode[0], k1, 1e-10 * scale) << "strain " << strain << " r1 " << r1;
+        EXPECT_NEAR(0.5 * e_star * i_mode[1], k2, 1e-10 * scale) << "strain " << strain << " r1 " << r1;
+      }
+  }
+}

@@ -232,4 +232,15 @@ WilliamsField williams_field(double k1, double k2, double mu, double kappa, doub
   return w;
 }
 
+
+double interaction_integrand(const double sig[3], const double gu[2][2], const WilliamsField& aux, const double gq[2]) {
+  const double* sa = aux.stress;
+  // σ_ij ε^aux_ij with engineering shear: σ_xy (∂u^aux_x/∂y + ∂u^aux_y/∂x).
+  const double w = sig[0] * aux.grad_u[0][0] + sig[1] * aux.grad_u[1][1] + sig[2] * (aux.grad_u[0][1] + aux.grad_u[1][0]);
+  // P_1j = σ_ij ∂u^aux_i/∂x_1 + σ^aux_ij ∂u_i/∂x_1 − w δ_1j, for j = x, y.
+  const double p1x = sig[0] * aux.grad_u[0][0] + sig[2] * aux.grad_u[1][0] + sa[0] * gu[0][0] + sa[2] * gu[1][0] - w;
+  const double p1y = sig[2] * aux.grad_u[0][0] + sig[1] * aux.grad_u[1][0] + sa[2] * gu[0][0] + sa[1] * gu[1][0];
+  return p1x * gq[0] + p1y * gq[1];
+}
+
 }  // namespace xfdem::xfem

@@ -104,4 +104,15 @@ struct WilliamsField {
 };
 WilliamsField williams_field(double k1, double k2, double mu, double kappa, double r, double theta);
 
+/// The integrand of the domain form of the interaction integral (Yau et al.
+/// 1980; Moran and Shih 1987; as in Moës et al. 1999), all in the tip frame:
+///   [σ_ij ∂u^aux_i/∂x_1 + σ^aux_ij ∂u_i/∂x_1 − σ_ij ε^aux_ij δ_1j] ∂q/∂x_j
+/// for the actual stress {σ_xx, σ_yy, σ_xy} and displacement gradient, the
+/// auxiliary Williams field and the gradient of the weight q (1 at the tip, 0
+/// on the domain's outer boundary). Integrated over the domain it gives
+/// I = 2 (K_I K_I^aux + K_II K_II^aux)/E*, E* = E in plane stress and
+/// E/(1 − ν²) in plane strain (straight traction-free faces, no body force).
+double interaction_integrand(const double stress[3], const double grad_u[2][2], const WilliamsField& aux,
+                             const double grad_q[2]);
+
 }  // namespace xfdem::xfem
