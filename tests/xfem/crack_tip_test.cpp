@@ -1,4 +1,4 @@
-// The near-tip building blocks of tip enrichment (issue 16): the tip frame,
+// The near-tip building blocks of tip enrichment: the tip frame,
 // the four branch functions and the Williams near-tip fields, checked against
 // closed forms and finite differences the tests compute. The plate does not
 // use them yet.
