@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -192,4 +193,70 @@ TEST(CrackTip, InteractionIntegralOfTheWilliamsFieldGivesItsK) {
         EXPECT_NEAR(0.5 * e_star * i_mode[1], k2, 1e-10 * scale) << "strain " << strain << " r1 " << r1;
       }
   }
+}
+
+// The tip cell's quadrature: sub-triangles fanned from the tip and a 5 × 5
+// Gauss rule collapsed at the tip (the rule of the cut cells) integrate
+// |∇F_1|² = 1/(4r) over a cell against the closed form
+// ∫∫ dA/r = Σ_edges d [ln(sec φ + tan φ)] (d the edge's distance from the tip,
+// φ the angle from its foot), where the cell's four sub-triangles from its
+// centre (the tip not a vertex) do much worse.
+TEST(CrackTip, FanFromTheTipIntegratesTheSingularGradient) {
+  const double gx[5] = {0.5 * (1.0 - 0.9061798459386640), 0.5 * (1.0 - 0.5384693101056831), 0.5,
+                        0.5 * (1.0 + 0.5384693101056831), 0.5 * (1.0 + 0.9061798459386640)};
+  const double gw[5] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665, 0.5 * 0.5688888888888889,
+                        0.5 * 0.4786286704993665, 0.5 * 0.2369268850561891};
+  const Point2 cell[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const TipFrame f{{0.3, 0.45}, std::cos(0.4), std::sin(0.4)};
+  auto collapsed = [&](const TrianglePiece* t, int count) {
+    double sum = 0.0;
+    for (int k = 0; k < count; ++k) {
+      const Point2* v = t[k].v;
+      const double e1x = v[1][0] - v[0][0], e1y = v[1][1] - v[0][1], e2x = v[2][0] - v[1][0], e2y = v[2][1] - v[1][1];
+      const double jac = std::fabs(e1x * e2y - e1y * e2x);
+      for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b) {
+          const Point2 x{v[0][0] + gx[a] * e1x + gx[a] * gx[b] * e2x, v[0][1] + gx[a] * e1y + gx[a] * gx[b] * e2y};
+          double val[4], g[4][2];
+          branch_functions(f, x, val, g);
+          sum += gw[a] * gw[b] * gx[a] * jac * (g[0][0] * g[0][0] + g[0][1] * g[0][1]);
+        }
+    }
+    return sum;
+  };
+  // Closed form: Σ over the cell's edges of d/4 [ln(sec φ + tan φ)]_{φ_a}^{φ_b}.
+  double exact = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const Point2 a = cell[i], b = cell[(i + 1) % 4];
+    const double tx = b[0] - a[0], ty = b[1] - a[1], len = std::hypot(tx, ty);
+    const double ux = tx / len, uy = ty / len;
+    const double sa = (a[0] - f.origin[0]) * ux + (a[1] - f.origin[1]) * uy;  // along the edge from the foot
+    const double sb = (b[0] - f.origin[0]) * ux + (b[1] - f.origin[1]) * uy;
+    const double d = std::fabs((a[0] - f.origin[0]) * uy - (a[1] - f.origin[1]) * ux);
+    auto prim = [&](double s) { return std::asinh(s / d); };  // ln(sec φ + tan φ) with tan φ = s/d
+    exact += 0.25 * d * (prim(sb) - prim(sa));
+  }
+  TrianglePiece fan[16];
+  double fan_err[4] = {};
+  for (int splits = 1; splits <= 3; ++splits) {
+    const int nf = fan_from_tip(cell, 4, f.origin, splits, 1, fan);
+    ASSERT_EQ(nf, 4 * splits);
+    fan_err[splits] = std::fabs(collapsed(fan, nf) - exact) / exact;
+  }
+  // The cell's own sub-triangles from its centre, collapsed at the centre.
+  TrianglePiece centre[4];
+  for (int i = 0; i < 4; ++i) centre[i] = TrianglePiece{{{0.5, 0.5}, cell[i], cell[(i + 1) % 4]}, 1};
+  const double centre_err = std::fabs(collapsed(centre, 4) - exact) / exact;
+  std::printf("int |grad F1|^2 over the tip cell: exact %.12g; rel. error, fan from the tip with 1, 2, 3 splits "
+              "per edge: %.2e %.2e %.2e; centre fan %.2e\n",
+              exact, fan_err[1], fan_err[2], fan_err[3], centre_err);
+  // The collapsed rule is exact in r here (the integrand times the Jacobian
+  // does not depend on it); what is left is the angular 5-point rule, which
+  // converges fast as the angles narrow.
+  EXPECT_LT(fan_err[3], 1e-8);
+  EXPECT_LT(fan_err[2], 1e-2 * fan_err[1]);
+  EXPECT_GT(centre_err, 100 * fan_err[1]);
+  // A tip on an edge: the degenerate triangle is skipped, the rest cover the cell.
+  EXPECT_EQ(fan_from_tip(cell, 4, {0.5, 0.0}, 1, -1, fan), 3);
+  EXPECT_EQ(fan[0].side, -1);
 }

@@ -243,4 +243,23 @@ double interaction_integrand(const double sig[3], const double gu[2][2], const W
   return p1x * gq[0] + p1y * gq[1];
 }
 
+
+int fan_from_tip(const Point2* poly, int n, Point2 tip, int splits, int side, TrianglePiece* out) {
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    const Point2 p = poly[i], q = poly[(i + 1) % n];
+    if (cross(sub(p, tip), sub(q, tip)) == 0.0) continue;
+    for (int k = 0; k < splits; ++k) {
+      // The last segment ends exactly at q (no round-off gap between pieces).
+      const double s0 = static_cast<double>(k) / splits;
+      const Point2 a = {p[0] + s0 * (q[0] - p[0]), p[1] + s0 * (q[1] - p[1])};
+      const double s1 = static_cast<double>(k + 1) / splits;
+      const Point2 b = k + 1 == splits ? q : Point2{p[0] + s1 * (q[0] - p[0]), p[1] + s1 * (q[1] - p[1])};
+      out[count] = TrianglePiece{{tip, k == 0 ? p : a, b}, side};
+      ++count;
+    }
+  }
+  return count;
+}
+
 }  // namespace xfdem::xfem

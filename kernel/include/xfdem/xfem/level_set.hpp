@@ -60,8 +60,7 @@ namespace xfdem::xfem {
 // ---- Near a crack tip ------------------------------------------------------
 // The building blocks of tip enrichment and of the interaction integral: the
 // tip's local frame, the four branch functions and the Williams near-tip
-// fields. The plate does not use them yet (tips are refused); they are here,
-// tested, for the tip enrichment of issue 16.
+// fields. The plate does not use them yet (tips are refused).
 
 /// A crack tip's local frame: the origin at the tip, local x along the crack's
 /// direction at the tip pointing out of the crack (θ = 0 ahead of the tip, the
@@ -76,6 +75,15 @@ struct TipFrame {
 /// axis is the reverse of the first segment's direction, so local y is then
 /// on the polyline's right.
 TipFrame tip_frame(const std::vector<Point2>& points, bool at_end);
+
+/// Fans a convex polygon (either orientation) from a point `tip` inside it or
+/// on its boundary: each edge split into `splits` equal segments, each giving
+/// a triangle (tip, a, b) with the tip always the first vertex, so a rule
+/// collapsed at the first vertex (almost-polar) cancels the 1/r of the branch
+/// functions' gradients; more splits narrow the angle each triangle spans. A
+/// triangle of zero area (the tip on that edge) is skipped. Each piece gets
+/// `side`. Writes at most n × splits pieces; returns the number written.
+int fan_from_tip(const Point2* polygon, int n, Point2 tip, int splits, int side, TrianglePiece* out);
 
 /// Polar coordinates (r, θ) of x in the tip frame, θ in (−π, π] (atan2).
 void tip_polar(const TipFrame& frame, Point2 x, double& r, double& theta);
