@@ -159,3 +159,107 @@ int split_triangle(const Point2 t[3], const double phi[3], TrianglePiece out[3])
 }
 
 }  // namespace xfdem::xfem
+
+namespace xfdem::xfem {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+TipFrame tip_frame(const std::vector<Point2>& points, bool at_end) {
+  const std::size_t n = points.size();
+  const Point2 tip = at_end ? points[n - 1] : points[0];
+  const Point2 before = at_end ? points[n - 2] : points[1];
+  const double dx = tip[0] - before[0], dy = tip[1] - before[1];
+  const double len = std::hypot(dx, dy);
+  return TipFrame{tip, dx / len, dy / len};
+}
+
+void tip_polar(const TipFrame& f, Point2 x, double& r, double& theta) {
+  const double dx = x[0] - f.origin[0], dy = x[1] - f.origin[1];
+  const double lx = f.cos_a * dx + f.sin_a * dy, ly = -f.sin_a * dx + f.cos_a * dy;
+  r = std::hypot(lx, ly);
+  theta = std::atan2(ly, lx);
+}
+
+void branch_functions(const TipFrame& f, Point2 x, double value[4], double grad[4][2]) {
+  double r = 0.0, t = 0.0;
+  tip_polar(f, x, r, t);
+  const double s = std::sin(0.5 * t), c = std::cos(0.5 * t), st = std::sin(t), ct = std::cos(t);
+  const double sr = std::sqrt(r);
+  // F_i = √r g_i(θ); g_i and dg_i/dθ.
+  const double g[4] = {s, c, s * st, c * st};
+  const double dg[4] = {0.5 * c, -0.5 * s, 0.5 * c * st + s * ct, -0.5 * s * st + c * ct};
+  for (int i = 0; i < 4; ++i) {
+    value[i] = sr * g[i];
+    if (r == 0.0) {
+      grad[i][0] = grad[i][1] = 0.0;
+      continue;
+    }
+    // ∂F/∂r = g/(2√r), (1/r)∂F/∂θ = g'/√r; local Cartesian, then rotate to global.
+    const double fr = g[i] / (2.0 * sr), ft = dg[i] / sr;
+    const double lx = fr * ct - ft * st, ly = fr * st + ft * ct;
+    grad[i][0] = f.cos_a * lx - f.sin_a * ly;
+    grad[i][1] = f.sin_a * lx + f.cos_a * ly;
+  }
+}
+
+WilliamsField williams_field(double k1, double k2, double mu, double kappa, double r, double t) {
+  const double s = std::sin(0.5 * t), c = std::cos(0.5 * t), st = std::sin(t), ct = std::cos(t);
+  const double s3 = std::sin(1.5 * t), c3 = std::cos(1.5 * t);
+  const double a = 1.0 / (2.0 * mu * std::sqrt(2.0 * kPi));
+  // u_i = √r g_i(θ) (Anderson, Fracture Mechanics, table 2.2).
+  const double gx = a * (k1 * c * (kappa - 1.0 + 2.0 * s * s) + k2 * s * (kappa + 1.0 + 2.0 * c * c));
+  const double gy = a * (k1 * s * (kappa + 1.0 - 2.0 * c * c) - k2 * c * (kappa - 1.0 - 2.0 * s * s));
+  const double dgx = a * (k1 * (-0.5 * s * (kappa - 1.0 + 2.0 * s * s) + 2.0 * s * c * c) +
+                          k2 * (0.5 * c * (kappa + 1.0 + 2.0 * c * c) - 2.0 * s * s * c));
+  const double dgy = a * (k1 * (0.5 * c * (kappa + 1.0 - 2.0 * c * c) + 2.0 * s * s * c) -
+                          k2 * (-0.5 * s * (kappa - 1.0 - 2.0 * s * s) - 2.0 * s * c * c));
+  const double sr = std::sqrt(r);
+  WilliamsField w{};
+  w.u[0] = sr * gx;
+  w.u[1] = sr * gy;
+  const double g[2] = {gx, gy}, dg[2] = {dgx, dgy};
+  for (int i = 0; i < 2; ++i) {
+    const double fr = g[i] / (2.0 * sr), ft = dg[i] / sr;
+    w.grad_u[i][0] = fr * ct - ft * st;
+    w.grad_u[i][1] = fr * st + ft * ct;
+  }
+  const double q = 1.0 / std::sqrt(2.0 * kPi * r);
+  w.stress[0] = q * (k1 * c * (1.0 - s * s3) - k2 * s * (2.0 + c * c3));
+  w.stress[1] = q * (k1 * c * (1.0 + s * s3) + k2 * s * c * c3);
+  w.stress[2] = q * (k1 * s * c * c3 + k2 * c * (1.0 - s * s3));
+  return w;
+}
+
+
+double interaction_integrand(const double sig[3], const double gu[2][2], const WilliamsField& aux, const double gq[2]) {
+  const double* sa = aux.stress;
+  // σ_ij ε^aux_ij with engineering shear: σ_xy (∂u^aux_x/∂y + ∂u^aux_y/∂x).
+  const double w = sig[0] * aux.grad_u[0][0] + sig[1] * aux.grad_u[1][1] + sig[2] * (aux.grad_u[0][1] + aux.grad_u[1][0]);
+  // P_1j = σ_ij ∂u^aux_i/∂x_1 + σ^aux_ij ∂u_i/∂x_1 − w δ_1j, for j = x, y.
+  const double p1x = sig[0] * aux.grad_u[0][0] + sig[2] * aux.grad_u[1][0] + sa[0] * gu[0][0] + sa[2] * gu[1][0] - w;
+  const double p1y = sig[2] * aux.grad_u[0][0] + sig[1] * aux.grad_u[1][0] + sa[2] * gu[0][0] + sa[1] * gu[1][0];
+  return p1x * gq[0] + p1y * gq[1];
+}
+
+
+int fan_from_tip(const Point2* poly, int n, Point2 tip, int splits, int side, TrianglePiece* out) {
+  int count = 0;
+  for (int i = 0; i < n; ++i) {
+    const Point2 p = poly[i], q = poly[(i + 1) % n];
+    if (cross(sub(p, tip), sub(q, tip)) == 0.0) continue;
+    for (int k = 0; k < splits; ++k) {
+      // The last segment ends exactly at q (no round-off gap between pieces).
+      const double s0 = static_cast<double>(k) / splits;
+      const Point2 a = {p[0] + s0 * (q[0] - p[0]), p[1] + s0 * (q[1] - p[1])};
+      const double s1 = static_cast<double>(k + 1) / splits;
+      const Point2 b = k + 1 == splits ? q : Point2{p[0] + s1 * (q[0] - p[0]), p[1] + s1 * (q[1] - p[1])};
+      out[count] = TrianglePiece{{tip, k == 0 ? p : a, b}, side};
+      ++count;
+    }
+  }
+  return count;
+}
+
+}  // namespace xfdem::xfem

@@ -54,3 +54,73 @@ struct TrianglePiece {
 int split_triangle(const Point2 t[3], const double phi[3], TrianglePiece out[3]);
 
 }  // namespace xfdem::xfem
+
+namespace xfdem::xfem {
+
+// ---- Near a crack tip ------------------------------------------------------
+// The building blocks of tip enrichment and of the interaction integral: the
+// tip's local frame, the four branch functions and the Williams near-tip
+// fields. The plate does not use them yet (tips are refused).
+
+/// A crack tip's local frame: the origin at the tip, local x along the crack's
+/// direction at the tip pointing out of the crack (θ = 0 ahead of the tip, the
+/// faces at θ = ±π), local y to its left.
+struct TipFrame {
+  Point2 origin{};
+  double cos_a = 1.0, sin_a = 0.0;  ///< the local x axis in global coordinates
+};
+
+/// The frame of the first (at_end false) or last (at_end true) point of a
+/// polyline of at least two distinct points. At the first point the local x
+/// axis is the reverse of the first segment's direction, so local y is then
+/// on the polyline's right.
+TipFrame tip_frame(const std::vector<Point2>& points, bool at_end);
+
+/// Fans a convex polygon (either orientation) from a point `tip` inside it or
+/// on its boundary: each edge split into `splits` equal segments, each giving
+/// a triangle (tip, a, b) with the tip always the first vertex, so a rule
+/// collapsed at the first vertex (almost-polar) cancels the 1/r of the branch
+/// functions' gradients; more splits narrow the angle each triangle spans. A
+/// triangle of zero area (the tip on that edge) is skipped. Each piece gets
+/// `side`. Writes at most n × splits pieces; returns the number written.
+int fan_from_tip(const Point2* polygon, int n, Point2 tip, int splits, int side, TrianglePiece* out);
+
+/// Polar coordinates (r, θ) of x in the tip frame, θ in (−π, π] (atan2).
+void tip_polar(const TipFrame& frame, Point2 x, double& r, double& theta);
+
+/// The four branch functions √r{sin(θ/2), cos(θ/2), sin(θ/2) sin θ,
+/// cos(θ/2) sin θ} at x and their gradients in global coordinates
+/// (grad[i] = {∂F_i/∂x, ∂F_i/∂y}). At the tip itself (r = 0) the values are 0
+/// and the gradients are set to 0 (they are unbounded there; a quadrature
+/// point never sits on the tip).
+void branch_functions(const TipFrame& frame, Point2 x, double value[4], double grad[4][2]);
+
+/// Kolosov's constant κ: 3 − 4ν in plane strain, (3 − ν)/(1 + ν) in plane stress.
+inline double kolosov(double poisson, bool plane_strain) {
+  return plane_strain ? 3.0 - 4.0 * poisson : (3.0 - poisson) / (1.0 + poisson);
+}
+
+/// The Williams (leading-term) near-tip fields of a straight crack with
+/// stress intensity factors k1, k2 (Pa·√m), shear modulus mu and Kolosov's
+/// κ, at polar coordinates (r > 0, θ) in the tip frame, all in the tip frame:
+/// displacement u, its gradient grad_u[i][j] = ∂u_i/∂x_j, and stress
+/// {σ_xx, σ_yy, σ_xy}.
+struct WilliamsField {
+  double u[2];
+  double grad_u[2][2];
+  double stress[3];
+};
+WilliamsField williams_field(double k1, double k2, double mu, double kappa, double r, double theta);
+
+/// The integrand of the domain form of the interaction integral (Yau et al.
+/// 1980; Moran and Shih 1987; as in Moës et al. 1999), all in the tip frame:
+///   [σ_ij ∂u^aux_i/∂x_1 + σ^aux_ij ∂u_i/∂x_1 − σ_ij ε^aux_ij δ_1j] ∂q/∂x_j
+/// for the actual stress {σ_xx, σ_yy, σ_xy} and displacement gradient, the
+/// auxiliary Williams field and the gradient of the weight q (1 at the tip, 0
+/// on the domain's outer boundary). Integrated over the domain it gives
+/// I = 2 (K_I K_I^aux + K_II K_II^aux)/E*, E* = E in plane stress and
+/// E/(1 − ν²) in plane strain (straight traction-free faces, no body force).
+double interaction_integrand(const double stress[3], const double grad_u[2][2], const WilliamsField& aux,
+                             const double grad_q[2]);
+
+}  // namespace xfdem::xfem
