@@ -1684,6 +1684,68 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
   return component == 0 ? -dir[1] * jump[0] + dir[0] * jump[1] : dir[0] * jump[0] + dir[1] * jump[1];
 }
 
+int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPlateMaxCellPieces]) {
+  if (!m.built || i < 0 || j < 0 || i >= m.desc.cells[0] || j >= m.desc.cells[1]) return 0;
+  CellView v;
+  make_view(m, i, j, v);
+  if (v.cut < 0) {
+    if (v.material < 0) return 0;
+    PlateCellPiece& p = out[0];
+    p = PlateCellPiece{};
+    p.corners = 4;
+    for (int a = 0; a < 4; ++a) p.xi[a] = kXi[a], p.eta[a] = kEta[a];
+    p.material = v.material;
+    return 1;
+  }
+  // The cut cell's pieces as for_each_point integrates them.
+  int count = 0;
+  for (int t = 0; t < 4; ++t) {
+    Point2 tri[3];
+    sub_triangle(t, tri);
+    const double phi[3] = {v.phi[t], v.phi[(t + 1) % 4], v.phi[4]};
+    xfem::TrianglePiece pieces[3];
+    const int n = xfem::split_triangle(tri, phi, pieces);
+    for (int k = 0; k < n; ++k) {
+      const xfem::TrianglePiece& q = pieces[k];
+      const int material = material_of(m, v, q.side);
+      const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
+      const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
+      if (material < 0 || e1x * e2y - e1y * e2x == 0.0) continue;
+      PlateCellPiece& p = out[count++];
+      p = PlateCellPiece{};
+      p.corners = 3;
+      for (int a = 0; a < 3; ++a) p.xi[a] = q.v[a][0], p.eta[a] = q.v[a][1];
+      p.triangle = t, p.side = q.side, p.material = material;
+    }
+  }
+  return count;
+}
+
+void plate_piece_fields(const PlateModel& m, const PlateState& s, int i, int j, const PlateCellPiece& piece, double xi,
+                        double eta, double u[2], double v[2], double stress[3]) {
+  CellView view;
+  make_view(m, i, j, view);
+  BasisAt basis;
+  evaluate(m, view, xi, eta, piece.triangle >= 0 ? piece.triangle : triangle_of(xi, eta), piece.side, basis);
+  for (int c = 0; c < 2; ++c) {
+    u[c] = v[c] = 0.0;
+    for (int f = 0; f < view.count; ++f) {
+      u[c] += basis.n[f] * coefficient(view, s.u.data(), true, f, c);
+      v[c] += basis.n[f] * coefficient(view, s.v.data(), false, f, c);
+    }
+  }
+  double eps[3];
+  strain_of(view, basis, s.u.data(), eps);
+  if (m.material_elasticity.empty()) {
+    for (int r = 0; r < 3; ++r) stress[r] = m.elasticity[r][0] * eps[0] + m.elasticity[r][1] * eps[1] + m.elasticity[r][2] * eps[2];
+    return;
+  }
+  const std::array<double, 9>& dd = m.material_elasticity[static_cast<std::size_t>(piece.material)];
+  for (int r = 0; r < 3; ++r)
+    stress[r] = dd[static_cast<std::size_t>(3 * r)] * eps[0] + dd[static_cast<std::size_t>(3 * r + 1)] * eps[1] +
+                dd[static_cast<std::size_t>(3 * r + 2)] * eps[2];
+}
+
 int plate_point_region(const PlateDesc& d, double x, double y, double tolerance) {
   int ci = 0, cj = 0;
   double xi = 0.0, eta = 0.0;
