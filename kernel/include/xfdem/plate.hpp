@@ -198,6 +198,14 @@ struct PlateModel {
   /// ρ t ∫ N_n ψ dA of node n's enrichment function in slot s, at [2n + s], kg.
   std::vector<double> enrichment_mass;
 
+  // ---- K x cell by cell (the step's product; K's profile holds zeros) ---------
+  /// The plain cells' 8 unknowns (−1: held), 8 per cell (element_stiffness applies).
+  std::vector<int> plain_cell_dof;
+  /// The other cells (cut, enriched, inclusion): cell e has other_cell_dof[
+  /// other_cell_start[e] … other_cell_start[e + 1]) (−1: held) and its element
+  /// stiffness, row-major, from other_cell_matrix[other_cell_matrix_start[e]].
+  std::vector<int> other_cell_start, other_cell_dof, other_cell_matrix_start;
+  std::vector<double> other_cell_matrix;
 };
 
 /// Everything a step changes. Plain data: copy it to snapshot, hash it through
@@ -323,6 +331,11 @@ int plate_cell_pieces(const PlateModel& model, int i, int j, PlateCellPiece out[
 /// side: on a crack, the two sides' pieces give the two faces' values.
 void plate_piece_fields(const PlateModel& model, const PlateState& state, int i, int j, const PlateCellPiece& piece,
                         double xi, double eta, double u[2], double v[2], double stress[3]);
+
+/// y −= K x on the unknowns, cell by cell (each cell's element stiffness, in
+/// cell order, then the tied crack faces' penalties): the product the step
+/// uses. Equals model.stiffness.subtract_product() to round-off. No allocation.
+void plate_subtract_stiffness_product(const PlateModel& model, const double* x, double* y);
 
 /// Where a point lies: −1 outside the domain, 0 in material, 1 on a
 /// discontinuity (within `tolerance` of it, by its exact level set), 2 in a hole.

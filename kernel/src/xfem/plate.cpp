@@ -541,6 +541,46 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
 
 // ---- the one operation the integrator needs ---------------------------------
 
+void plate_subtract_stiffness_product(const PlateModel& m, const double* x, double* y) {
+  const double* ke = m.element_stiffness;
+  const std::size_t plain = m.plain_cell_dof.size() / 8;
+  for (std::size_t e = 0; e < plain; ++e) {
+    const int* dof = m.plain_cell_dof.data() + 8 * e;
+    double xe[8];
+    for (int a = 0; a < 8; ++a) xe[a] = dof[a] >= 0 ? x[dof[a]] : 0.0;
+    for (int a = 0; a < 8; ++a) {
+      if (dof[a] < 0) continue;
+      double s = 0.0;
+      for (int b = 0; b < 8; ++b) s += ke[a * 8 + b] * xe[b];
+      y[dof[a]] -= s;
+    }
+  }
+  const std::size_t others = m.other_cell_matrix_start.size();
+  for (std::size_t e = 0; e < others; ++e) {
+    const int* dof = m.other_cell_dof.data() + m.other_cell_start[e];
+    const int nf = m.other_cell_start[e + 1] - m.other_cell_start[e];
+    const double* k = m.other_cell_matrix.data() + m.other_cell_matrix_start[e];
+    for (int a = 0; a < nf; ++a) {
+      if (dof[a] < 0) continue;
+      double s = 0.0;
+      for (int b = 0; b < nf; ++b)
+        if (dof[b] >= 0) s += k[a * nf + b] * x[dof[b]];
+      y[dof[a]] -= s;
+    }
+  }
+  // Tied faces: w (k_n g_n n + k_t g_t t), g the jumps' coefficients (unilateral
+  // points are not in K: the step adds those that are active).
+  for (const PlateModel::FacePoint& fp : m.face_points) {
+    if (fp.unilateral) continue;
+    double gn = 0.0, gt = 0.0;
+    for (int a = 0; a < 8; ++a)
+      if (fp.dof[a] >= 0) gn += fp.normal[a] * x[fp.dof[a]], gt += fp.tangential[a] * x[fp.dof[a]];
+    for (int a = 0; a < 8; ++a)
+      if (fp.dof[a] >= 0)
+        y[fp.dof[a]] -= fp.weight * (fp.k_normal * gn * fp.normal[a] + fp.k_tangential * gt * fp.tangential[a]);
+  }
+}
+
 namespace detail {
 
 /// The normal jump [u]·n of a face point.
@@ -585,7 +625,7 @@ class PlateOperator {
     for (int i = 0; i < n; ++i) base[i] = m_.held_force[static_cast<std::size_t>(i)];
     const std::size_t entries = m_.load_dof.size();
     for (std::size_t e = 0; e < entries; ++e) base[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
-    m_.stiffness.subtract_product(x, base);
+    plate_subtract_stiffness_product(m_, x, base);
     for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
     if (m_.unilateral_points == 0) {
       (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
@@ -1109,6 +1149,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             const double g = view.held[b / 2][b % 2];
             if (g != 0.0) model.held_force[static_cast<std::size_t>(ra)] -= ke[a * stride + b] * g;
           }
+      }
+      // The element stiffness again, for the step's cell-by-cell K x.
+      if (view.plain) {
+        for (int a = 0; a < 8; ++a) model.plain_cell_dof.push_back(view.dof[a / 2][a % 2]);
+      } else {
+        if (model.other_cell_start.empty()) model.other_cell_start.push_back(0);
+        model.other_cell_matrix_start.push_back(static_cast<int>(model.other_cell_matrix.size()));
+        for (int a = 0; a < nf; ++a) model.other_cell_dof.push_back(view.dof[a / 2][a % 2]);
+        model.other_cell_start.push_back(static_cast<int>(model.other_cell_dof.size()));
+        for (int a = 0; a < nf; ++a)
+          for (int b = 0; b < nf; ++b) model.other_cell_matrix.push_back(ke[a * stride + b]);
       }
       if (view.plain)
         // ρ t ∫ N_a dA: the x rows' sums of the element mass.
