@@ -10,12 +10,11 @@
 //                  build, the Newmark updates and the energy books; energy
 //                  check every 16 steps (the default) or off (arg check = 0).
 //   BM_PlateSolve: the back-substitution alone (BandLdlt::solve).
-//   BM_PlateStiffnessProduct: the step's other large term, y −= K x, as the
-//                  step computes it (cells:0, over K's profile,
-//                  SymmetricBand::subtract_product) and as it could (cells:1,
-//                  cell by cell from the one 8 × 8 element stiffness, which
-//                  touches only the nonzeros); a measurement for
-//                  docs/benchmarks.md, not a code path of the kernel.
+//   BM_PlateStiffnessProduct: the step's other large term, y −= K x, over
+//                  K's profile (cells:0, SymmetricBand::subtract_product, what
+//                  the step used before) and as the step computes it (cells:1,
+//                  plate_subtract_stiffness_product: cell by cell from the
+//                  8 × 8 element stiffness, touching only the nonzeros).
 //   BM_PlateBuild: build_plate(): mesh, assembly of K and M, factorisation
 //                  of M and of M + βΔt²K, the initial acceleration.
 //
@@ -109,30 +108,6 @@ void BM_PlateSolve(benchmark::State& bench) {
   counters(bench, m);
 }
 
-/// y −= K x cell by cell (held components skipped): the unknowns of cell (i, j)
-/// are those of its nodes counter-clockwise from the lower left.
-void element_product(const xfdem::PlateModel& m, const double* x, double* y) {
-  const int nx = m.desc.cells[0], ny = m.desc.cells[1];
-  const double* ke = m.element_stiffness;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int n0 = j * (nx + 1) + i;
-      const int nodes[4] = {n0, n0 + 1, n0 + nx + 2, n0 + nx + 1};
-      int dof[8];
-      double xe[8];
-      for (int a = 0; a < 8; ++a) {
-        dof[a] = m.node_dof[static_cast<std::size_t>(2 * nodes[a / 2] + a % 2)];
-        xe[a] = dof[a] >= 0 ? x[dof[a]] : 0.0;
-      }
-      for (int a = 0; a < 8; ++a) {
-        if (dof[a] < 0) continue;
-        double s = 0.0;
-        for (int b = 0; b < 8; ++b) s += ke[a * 8 + b] * xe[b];
-        y[dof[a]] -= s;
-      }
-    }
-}
-
 // Args: nx, ny, cells (0: over the profile, 1: cell by cell).
 void BM_PlateStiffnessProduct(benchmark::State& bench) {
   xfdem::PlateModel m;
@@ -145,7 +120,7 @@ void BM_PlateStiffnessProduct(benchmark::State& bench) {
   std::vector<double> y(st.u.size(), 0.0), check(st.u.size(), 0.0);
   // Both give the same product (to round-off of the sums' order).
   m.stiffness.subtract_product(st.u.data(), y.data());
-  element_product(m, st.u.data(), check.data());
+  xfdem::plate_subtract_stiffness_product(m, st.u.data(), check.data());
   double scale = 0.0, diff = 0.0;
   for (std::size_t k = 0; k < y.size(); ++k) {
     scale = std::max(scale, std::fabs(y[k]));
@@ -157,7 +132,7 @@ void BM_PlateStiffnessProduct(benchmark::State& bench) {
   }
   for (auto _ : bench) {
     if (cells)
-      element_product(m, st.u.data(), y.data());
+      xfdem::plate_subtract_stiffness_product(m, st.u.data(), y.data());
     else
       m.stiffness.subtract_product(st.u.data(), y.data());
     benchmark::DoNotOptimize(y.data());

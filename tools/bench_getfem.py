@@ -34,9 +34,10 @@ factor and of SuperLU's L and U) and writes the cost model's log-log plot (per-s
 unknowns) to --png.
 
 --case: only `uncut` exists. The issue's final comparison is the plate with a
-tied interface cut by a level set (`tied_cut`), which needs the plate's
-discontinuities; the script names it and refuses it until they exist (its
-GetFEM side would be an XFem or a level-set-cut mesh_fem with the same penalty).
+tied interface cut by a level set (`tied_cut`). The plate has tied cracks
+(scenes/plate_crack.json), but this script's GetFEM side of it (an XFem or a
+level-set-cut mesh_fem with the same penalty on the interface, and a check
+that both codes agree) is not written: the script names the case and refuses it.
 
 Needs: python3-getfem (`apt-get install python3-getfem`), numpy, scipy,
 matplotlib (Debian's python3-numpy, python3-scipy, python3-matplotlib).
@@ -213,8 +214,8 @@ def main():
     parser.add_argument("--case", default="uncut", choices=["uncut", "tied_cut"])
     args = parser.parse_args()
     if args.case != "uncut":
-        sys.exit("bench_getfem.py: --case tied_cut needs the plate's discontinuities (issue 16), which are not "
-                 "in the kernel yet; only --case uncut runs")
+        sys.exit("bench_getfem.py: --case tied_cut: the GetFEM side of the tied, level-set-cut plate is not "
+                 "written yet; only --case uncut runs")
     gf = import_getfem()
     import numpy as np
     bench = os.path.join(args.build, "bench", "xfdem_bench")
@@ -264,7 +265,7 @@ def main():
         print("| " + " | ".join(str(c) for c in r) + " |")
     print("\nratio: xfdem / GetFEM (the goal: <= 0.2 for the step)")
 
-    print("\nwhere the xfdem step goes (y -= K x over K's profile, as the step does it, and cell by cell):\n")
+    print("\nwhere the xfdem step goes (y -= K x over K's profile, as the step did it before, and cell by cell, as it does now):\n")
     print("| cells | step | back-substitution | K x, profile | K x, cell by cell |")
     print("|---|---:|---:|---:|---:|")
     for nx, ny in SIZES:

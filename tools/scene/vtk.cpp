@@ -112,8 +112,8 @@ void cells(std::string& out, const std::vector<int>& corners, bool vertices) {
   out += "          ";
   for (std::size_t k = 0; k < corners.size(); ++k) {
     if (k > 0) out += ' ';
-    // VTK_VERTEX 1, VTK_QUAD 9, VTK_POLYGON 7.
-    put(out, static_cast<std::int64_t>(vertices ? 1 : corners[k] == 4 ? 9 : 7));
+    // VTK_VERTEX 1, VTK_TRIANGLE 5, VTK_QUAD 9, VTK_POLYGON 7.
+    put(out, static_cast<std::int64_t>(vertices ? 1 : corners[k] == 3 ? 5 : corners[k] == 4 ? 9 : 7));
   }
   close_array(out);
   out += "      </Cells>\n";
@@ -140,6 +140,33 @@ void for_each_plate_piece(const PlateModel& m, const PlateState& s, void (*visit
   // Corners counter-clockwise from the lower left, as the element's nodes.
   constexpr int kDi[4] = {0, 1, 1, 0}, kDj[4] = {0, 0, 1, 1};
   PlatePiece piece;
+  if (!m.node_phi.empty()) {
+    // With discontinuities: the cells' pieces as the plate integrates them
+    // (an uncut cell whole, a cut cell's triangles of each material side),
+    // each with the enriched field of its own side.
+    PlateCellPiece cell[kPlateMaxCellPieces];
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const double x0 = node_coord(d.min[0], d.max[0], i, nx), x1 = node_coord(d.min[0], d.max[0], i + 1, nx);
+        const double y0 = node_coord(d.min[1], d.max[1], j, ny), y1 = node_coord(d.min[1], d.max[1], j + 1, ny);
+        const int count = plate_cell_pieces(m, i, j, cell);
+        for (int p = 0; p < count; ++p) {
+          const PlateCellPiece& q = cell[p];
+          piece.corners = q.corners;
+          double xi = 0.0, eta = 0.0, unused[3];
+          for (int a = 0; a < q.corners; ++a) {
+            piece.reference[a][0] = x0 + 0.5 * (1.0 + q.xi[a]) * (x1 - x0);
+            piece.reference[a][1] = y0 + 0.5 * (1.0 + q.eta[a]) * (y1 - y0);
+            plate_piece_fields(m, s, i, j, q, q.xi[a], q.eta[a], piece.u[a], piece.v[a], unused);
+            xi += q.xi[a] / q.corners, eta += q.eta[a] / q.corners;
+          }
+          double rate[2];
+          plate_piece_fields(m, s, i, j, q, xi, eta, unused, rate, piece.stress);
+          visit(piece, context);
+        }
+      }
+    return;
+  }
   piece.corners = 4;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {

@@ -30,10 +30,10 @@ namespace xfdem::scene {
 
 /// One piece of the plate as it is written: a polygon with its corners
 /// counter-clockwise, the fields at each corner as seen from the piece, and
-/// the stress at its centroid. The uncut plate writes each cell as one piece
-/// (its four nodes); a cut cell is to be written as one piece per side of its
-/// discontinuities, each with its own corners' values, so that a crack opens
-/// in the picture.
+/// the stress at its centroid. An uncut cell is one piece (its four nodes); a
+/// cut cell is its triangles on each material side (plate_cell_pieces()), each
+/// with its own side's values at its corners, so that a crack opens in the
+/// picture; nothing is written in a void.
 struct PlatePiece {
   static constexpr int kMaxCorners = 8;
   int corners = 0;
@@ -43,8 +43,7 @@ struct PlatePiece {
   double stress[3] = {};                  ///< σ_xx, σ_yy, σ_xy at the centroid, Pa
 };
 
-/// Visits the pieces to write, cell by cell (i fastest). The one place the
-/// discontinuities extend: a cut cell visits one piece per side.
+/// Visits the pieces to write, cell by cell (i fastest).
 void for_each_plate_piece(const PlateModel& model, const PlateState& state, void (*visit)(const PlatePiece&, void*),
                           void* context);
 template <class Visit>

@@ -197,6 +197,15 @@ struct PlateModel {
   std::vector<FacePoint> face_points;
   /// ρ t ∫ N_n ψ dA of node n's enrichment function in slot s, at [2n + s], kg.
   std::vector<double> enrichment_mass;
+
+  // ---- K x cell by cell (the step's product; K's profile holds zeros) ---------
+  /// The plain cells' 8 unknowns (−1: held), 8 per cell (element_stiffness applies).
+  std::vector<int> plain_cell_dof;
+  /// The other cells (cut, enriched, inclusion): cell e has other_cell_dof[
+  /// other_cell_start[e] … other_cell_start[e + 1]) (−1: held) and its element
+  /// stiffness, row-major, from other_cell_matrix[other_cell_matrix_start[e]].
+  std::vector<int> other_cell_start, other_cell_dof, other_cell_matrix_start;
+  std::vector<double> other_cell_matrix;
 };
 
 /// Everything a step changes. Plain data: copy it to snapshot, hash it through
@@ -300,6 +309,33 @@ double plate_momentum(const PlateModel& model, const PlateState& state, int comp
 /// when the point is not in the plate or the index is not a crack.
 double plate_crack_opening(const PlateModel& model, const PlateState& state, int crack, double x, double y,
                            int component);
+
+/// One piece of cell (i, j) as the plate integrates it, in parent coordinates
+/// (ξ, η ∈ [−1, 1], corners counter-clockwise): an uncut cell is one piece,
+/// its four corners; a cut cell is the triangles of its four sub-triangles
+/// split along the cutting level set, each on one side of it. Pieces with no
+/// material (a hole's) are not listed.
+struct PlateCellPiece {
+  int corners = 0;                     ///< 4 (an uncut cell) or 3
+  double xi[4] = {}, eta[4] = {};
+  int triangle = -1;                   ///< sub-triangle of a cut cell (−1: uncut)
+  int side = 1;                        ///< side of the cutting level set (+1 uncut)
+  int material = 0;                    ///< 0 the plate's, 1 + k inclusion k's
+};
+inline constexpr int kPlateMaxCellPieces = 12;
+/// The pieces of cell (i, j) (read-only geometry of the model; 0 for an
+/// unbuilt model, a cell out of range or a cell with no material).
+int plate_cell_pieces(const PlateModel& model, int i, int j, PlateCellPiece out[kPlateMaxCellPieces]);
+/// Displacement, velocity and stress at parent point (ξ, η) of a piece of cell
+/// (i, j) (from plate_cell_pieces), by the enriched field of the piece's own
+/// side: on a crack, the two sides' pieces give the two faces' values.
+void plate_piece_fields(const PlateModel& model, const PlateState& state, int i, int j, const PlateCellPiece& piece,
+                        double xi, double eta, double u[2], double v[2], double stress[3]);
+
+/// y −= K x on the unknowns, cell by cell (each cell's element stiffness, in
+/// cell order, then the tied crack faces' penalties): the product the step
+/// uses. Equals model.stiffness.subtract_product() to round-off. No allocation.
+void plate_subtract_stiffness_product(const PlateModel& model, const double* x, double* y);
 
 /// Where a point lies: −1 outside the domain, 0 in material, 1 on a
 /// discontinuity (within `tolerance` of it, by its exact level set), 2 in a hole.

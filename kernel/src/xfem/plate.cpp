@@ -541,6 +541,46 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
 
 // ---- the one operation the integrator needs ---------------------------------
 
+void plate_subtract_stiffness_product(const PlateModel& m, const double* x, double* y) {
+  const double* ke = m.element_stiffness;
+  const std::size_t plain = m.plain_cell_dof.size() / 8;
+  for (std::size_t e = 0; e < plain; ++e) {
+    const int* dof = m.plain_cell_dof.data() + 8 * e;
+    double xe[8];
+    for (int a = 0; a < 8; ++a) xe[a] = dof[a] >= 0 ? x[dof[a]] : 0.0;
+    for (int a = 0; a < 8; ++a) {
+      if (dof[a] < 0) continue;
+      double s = 0.0;
+      for (int b = 0; b < 8; ++b) s += ke[a * 8 + b] * xe[b];
+      y[dof[a]] -= s;
+    }
+  }
+  const std::size_t others = m.other_cell_matrix_start.size();
+  for (std::size_t e = 0; e < others; ++e) {
+    const int* dof = m.other_cell_dof.data() + m.other_cell_start[e];
+    const int nf = m.other_cell_start[e + 1] - m.other_cell_start[e];
+    const double* k = m.other_cell_matrix.data() + m.other_cell_matrix_start[e];
+    for (int a = 0; a < nf; ++a) {
+      if (dof[a] < 0) continue;
+      double s = 0.0;
+      for (int b = 0; b < nf; ++b)
+        if (dof[b] >= 0) s += k[a * nf + b] * x[dof[b]];
+      y[dof[a]] -= s;
+    }
+  }
+  // Tied faces: w (k_n g_n n + k_t g_t t), g the jumps' coefficients (unilateral
+  // points are not in K: the step adds those that are active).
+  for (const PlateModel::FacePoint& fp : m.face_points) {
+    if (fp.unilateral) continue;
+    double gn = 0.0, gt = 0.0;
+    for (int a = 0; a < 8; ++a)
+      if (fp.dof[a] >= 0) gn += fp.normal[a] * x[fp.dof[a]], gt += fp.tangential[a] * x[fp.dof[a]];
+    for (int a = 0; a < 8; ++a)
+      if (fp.dof[a] >= 0)
+        y[fp.dof[a]] -= fp.weight * (fp.k_normal * gn * fp.normal[a] + fp.k_tangential * gt * fp.tangential[a]);
+  }
+}
+
 namespace detail {
 
 /// The normal jump [u]·n of a face point.
@@ -585,7 +625,7 @@ class PlateOperator {
     for (int i = 0; i < n; ++i) base[i] = m_.held_force[static_cast<std::size_t>(i)];
     const std::size_t entries = m_.load_dof.size();
     for (std::size_t e = 0; e < entries; ++e) base[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
-    m_.stiffness.subtract_product(x, base);
+    plate_subtract_stiffness_product(m_, x, base);
     for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
     if (m_.unilateral_points == 0) {
       (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
@@ -1109,6 +1149,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             const double g = view.held[b / 2][b % 2];
             if (g != 0.0) model.held_force[static_cast<std::size_t>(ra)] -= ke[a * stride + b] * g;
           }
+      }
+      // The element stiffness again, for the step's cell-by-cell K x.
+      if (view.plain) {
+        for (int a = 0; a < 8; ++a) model.plain_cell_dof.push_back(view.dof[a / 2][a % 2]);
+      } else {
+        if (model.other_cell_start.empty()) model.other_cell_start.push_back(0);
+        model.other_cell_matrix_start.push_back(static_cast<int>(model.other_cell_matrix.size()));
+        for (int a = 0; a < nf; ++a) model.other_cell_dof.push_back(view.dof[a / 2][a % 2]);
+        model.other_cell_start.push_back(static_cast<int>(model.other_cell_dof.size()));
+        for (int a = 0; a < nf; ++a)
+          for (int b = 0; b < nf; ++b) model.other_cell_matrix.push_back(ke[a * stride + b]);
       }
       if (view.plain)
         // ρ t ∫ N_a dA: the x rows' sums of the element mass.
@@ -1682,6 +1733,68 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
   xfem::polyline_closest(d.discontinuities[static_cast<std::size_t>(crack)].points, {x, y}, closest, dir);
   // Normal: left of the direction (towards the positive side).
   return component == 0 ? -dir[1] * jump[0] + dir[0] * jump[1] : dir[0] * jump[0] + dir[1] * jump[1];
+}
+
+int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPlateMaxCellPieces]) {
+  if (!m.built || i < 0 || j < 0 || i >= m.desc.cells[0] || j >= m.desc.cells[1]) return 0;
+  CellView v;
+  make_view(m, i, j, v);
+  if (v.cut < 0) {
+    if (v.material < 0) return 0;
+    PlateCellPiece& p = out[0];
+    p = PlateCellPiece{};
+    p.corners = 4;
+    for (int a = 0; a < 4; ++a) p.xi[a] = kXi[a], p.eta[a] = kEta[a];
+    p.material = v.material;
+    return 1;
+  }
+  // The cut cell's pieces as for_each_point integrates them.
+  int count = 0;
+  for (int t = 0; t < 4; ++t) {
+    Point2 tri[3];
+    sub_triangle(t, tri);
+    const double phi[3] = {v.phi[t], v.phi[(t + 1) % 4], v.phi[4]};
+    xfem::TrianglePiece pieces[3];
+    const int n = xfem::split_triangle(tri, phi, pieces);
+    for (int k = 0; k < n; ++k) {
+      const xfem::TrianglePiece& q = pieces[k];
+      const int material = material_of(m, v, q.side);
+      const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
+      const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
+      if (material < 0 || e1x * e2y - e1y * e2x == 0.0) continue;
+      PlateCellPiece& p = out[count++];
+      p = PlateCellPiece{};
+      p.corners = 3;
+      for (int a = 0; a < 3; ++a) p.xi[a] = q.v[a][0], p.eta[a] = q.v[a][1];
+      p.triangle = t, p.side = q.side, p.material = material;
+    }
+  }
+  return count;
+}
+
+void plate_piece_fields(const PlateModel& m, const PlateState& s, int i, int j, const PlateCellPiece& piece, double xi,
+                        double eta, double u[2], double v[2], double stress[3]) {
+  CellView view;
+  make_view(m, i, j, view);
+  BasisAt basis;
+  evaluate(m, view, xi, eta, piece.triangle >= 0 ? piece.triangle : triangle_of(xi, eta), piece.side, basis);
+  for (int c = 0; c < 2; ++c) {
+    u[c] = v[c] = 0.0;
+    for (int f = 0; f < view.count; ++f) {
+      u[c] += basis.n[f] * coefficient(view, s.u.data(), true, f, c);
+      v[c] += basis.n[f] * coefficient(view, s.v.data(), false, f, c);
+    }
+  }
+  double eps[3];
+  strain_of(view, basis, s.u.data(), eps);
+  if (m.material_elasticity.empty()) {
+    for (int r = 0; r < 3; ++r) stress[r] = m.elasticity[r][0] * eps[0] + m.elasticity[r][1] * eps[1] + m.elasticity[r][2] * eps[2];
+    return;
+  }
+  const std::array<double, 9>& dd = m.material_elasticity[static_cast<std::size_t>(piece.material)];
+  for (int r = 0; r < 3; ++r)
+    stress[r] = dd[static_cast<std::size_t>(3 * r)] * eps[0] + dd[static_cast<std::size_t>(3 * r + 1)] * eps[1] +
+                dd[static_cast<std::size_t>(3 * r + 2)] * eps[2];
 }
 
 int plate_point_region(const PlateDesc& d, double x, double y, double tolerance) {
