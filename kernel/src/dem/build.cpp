@@ -101,11 +101,6 @@ double inertia_of(const ParticleDesc<D>& p) {
   return (D == 2 ? 0.5 : 0.4) * p.mass * p.radius * p.radius;
 }
 
-template <int D>
-bool rotates(const DemDesc<D>& desc) {
-  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz);
-}
-
 /// (1 − ν²)/E and 2(2 − ν)(1 + ν)/E of a material (0, 0: rigid).
 struct Compliance {
   double inv_e, inv_g;
@@ -113,6 +108,11 @@ struct Compliance {
 inline Compliance compliance(double E, double nu) {
   if (std::isnan(E) && std::isnan(nu)) return {0.0, 0.0};
   return {(1.0 - nu * nu) / E, 2.0 * (2.0 - nu) * (1.0 + nu) / E};
+}
+
+template <int D>
+bool rotates(const DemDesc<D>& desc) {
+  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz);
 }
 
 /// The hertz law's stable-step rule: its stiffness grows with the overlap, so
@@ -174,7 +174,15 @@ BuildResult check_plane_overlaps(const DemDesc<D>& desc) {
       const double overlap = q.radius - height;
       if (!(overlap > q.radius)) continue;
       char speed[32];
-      dem_detail::format_speed(overlap * std::sqrt(q.stiffness / q.mass), speed, sizeof(speed));
+      // The speed its spring's energy would give it: ½ k δ² (hertz: 8/15 E* √r δ^{5/2}).
+      double e_star = 0;
+      if (desc.law == ContactLaw::hertz)
+        e_star = 1.0 / (compliance(q.youngs_modulus, q.poisson_ratio).inv_e +
+                        compliance(pl.youngs_modulus, pl.poisson_ratio).inv_e);
+      dem_detail::format_speed(desc.law == ContactLaw::hertz
+                                   ? std::sqrt(2.0 * dem_detail::hertz_energy(e_star, q.radius, overlap) / q.mass)
+                                   : overlap * std::sqrt(q.stiffness / q.mass),
+                               speed, sizeof(speed));
       return BuildResult::failure(Code::invalid_argument,
                                   "particles[%zu].position: overlaps planes[%zu] by %g m at the start, more than its "
                                   "radius %g m (its centre is on the plane's solid side): its contact would throw it "
@@ -200,8 +208,12 @@ BuildResult check_pair_overlaps(const DemModel<D>& m, const DemState<D>& s) {
     const double smaller = std::min(m.radius[i], m.radius[j]);
     if (!(overlap > smaller)) continue;
     char speed[32];
-    dem_detail::format_speed(overlap * std::sqrt(s.pair_stiffness[c] * (m.inv_mass[i] + m.inv_mass[j])), speed,
-                             sizeof(speed));
+    const double inv_m = m.inv_mass[i] + m.inv_mass[j];
+    dem_detail::format_speed(
+        m.law == ContactLaw::hertz
+            ? std::sqrt(2.0 * dem_detail::pair_spring_energy(m, i, j, s.pair_stiffness[c], overlap) * inv_m)
+            : overlap * std::sqrt(s.pair_stiffness[c] * inv_m),
+        speed, sizeof(speed));
     return BuildResult::failure(Code::invalid_argument,
                                 "particles[%d].position: overlaps particles[%d] by %g m at the start, more than the "
                                 "smaller radius %g m: their contact would throw them apart at up to %s",
