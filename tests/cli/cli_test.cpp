@@ -100,7 +100,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene key 'dem.particles.0.position': expected 1 numbers (one per dimension), got 2"},
         BadInput{"--set dem.particles.0.colour=1", "scene key 'dem.particles.0.colour': unknown key"},
         BadInput{"--set dem.integrator=euler", "scene key 'dem.integrator': 'euler' is not one of"},
-        BadInput{"--set dem.contact.law=hertz", "scene key 'dem.contact.law': 'hertz' is not one of"},
+        // hertz takes restitution and the particles' E and ν, not the linear laws' keys.
+        BadInput{"--set dem.contact.law=hertz", "scene key 'dem.contact.damping_ratio': used by the linear laws only"},
+        BadInput{"--set dem.contact.law=nonlinear", "scene key 'dem.contact.law': 'nonlinear' is not one of"},
         BadInput{"--set dem.contact.friction=-0.5", "scene key 'dem.contact.friction': must be >= 0 (got -0.5)"},
         BadInput{"--set dem.contact.rolling_friction=-1", "scene key 'dem.contact.rolling_friction': must be >= 0"},
         BadInput{"--set dem.contact.tangential_stiffness_ratio=0",

@@ -28,7 +28,8 @@ std::uint64_t bytes(const std::array<std::vector<T>, N>& columns) {
 template <int D>
 std::uint64_t model_bytes(const DemModel<D>& m) {
   return bytes(m.mass) + bytes(m.inv_mass) + bytes(m.radius) + bytes(m.stiffness) + bytes(m.plane_eta) +
-         bytes(m.plane_point) + bytes(m.plane_normal) + bytes(m.inv_inertia);
+         bytes(m.plane_point) + bytes(m.plane_normal) + bytes(m.inv_inertia) + bytes(m.hertz_inv_e) +
+         bytes(m.hertz_inv_g) + bytes(m.plane_inv_e) + bytes(m.plane_inv_g);
 }
 
 template <int D>

@@ -71,10 +71,18 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
   if (integrator == "symplectic_euler") desc.integrator = DemIntegrator::symplectic_euler;
   if (dem.has("contact")) {
     ObjectReader contact = dem.object("contact");
-    desc.law = contact.choice_or("law", "linear", {"linear", "linear_nontensile"}) == "linear"
-                   ? ContactLaw::linear
-                   : ContactLaw::linear_nontensile;
+    const std::string law = contact.choice_or("law", "linear", {"linear", "linear_nontensile", "hertz"});
+    desc.law = law == "linear" ? ContactLaw::linear : law == "hertz" ? ContactLaw::hertz : ContactLaw::linear_nontensile;
+    // Each law's own keys; the other's are refused (a key without effect).
+    const char* linear_only[] = {"damping_ratio", "tangential_stiffness_ratio"};
+    for (const char* key : linear_only)
+      if (desc.law == ContactLaw::hertz && contact.has(key))
+        contact.fail(key, "used by the linear laws only (hertz is damped by 'restitution', its tangential stiffness is "
+                          "Mindlin's)");
+    if (desc.law != ContactLaw::hertz && contact.has("restitution"))
+      contact.fail("restitution", "used by the hertz law only (the linear laws take 'damping_ratio')");
     desc.damping_ratio = contact.real_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
+    desc.restitution = contact.real_or("restitution", 1.0, Range{0.0, 1.0, true, false});
     desc.friction = contact.real_or("friction", 0.0, kNonNegative);
     desc.tangential_stiffness_ratio = contact.real_or("tangential_stiffness_ratio", 0.0, kPositive);
     desc.rolling_friction = contact.real_or("rolling_friction", 0.0, kNonNegative);
@@ -108,7 +116,15 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
     seen[name] = path;
     particle.mass = p.real("mass", kPositive);
     particle.radius = p.real("radius", kPositive);
-    particle.stiffness = p.real("stiffness", kPositive);
+    if (desc.law == ContactLaw::hertz) {
+      if (p.has("stiffness")) p.fail("stiffness", "used by the linear laws only (hertz takes youngs_modulus and poisson_ratio)");
+      particle.youngs_modulus = p.real_or("youngs_modulus", NAN);
+      particle.poisson_ratio = p.real_or("poisson_ratio", NAN);
+    } else {
+      for (const char* key : {"youngs_modulus", "poisson_ratio"})
+        if (p.has(key)) p.fail(key, "used by the hertz law only (dem.contact.law)");
+      particle.stiffness = p.real("stiffness", kPositive);
+    }
     particle.position = to_array<D>(p.vector("position", D));
     particle.velocity = p.has("velocity") ? to_array<D>(p.vector("velocity", D)) : std::array<double, D>{};
     if (p.has("angular_velocity")) {
@@ -134,6 +150,10 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
       for (double c : normal) len2 += c * c;
       if (!(len2 > 0)) p.fail("normal", "must not be the zero vector");
       plane.normal = to_array<D>(normal);
+      for (const char* key : {"youngs_modulus", "poisson_ratio"})
+        if (desc.law != ContactLaw::hertz && p.has(key)) p.fail(key, "used by the hertz law only (dem.contact.law)");
+      plane.youngs_modulus = p.real_or("youngs_modulus", NAN);
+      plane.poisson_ratio = p.real_or("poisson_ratio", NAN);
       p.finish();
       plane_names.push_back(name);
       desc.planes.push_back(plane);
@@ -459,7 +479,7 @@ SceneError build_refusal(const Scene& scene, Built model, const BuildResult& bui
     if (field == "dt" && substep)
       reason = "the particle substep time.dt / time.dem_substeps = " + reason + "; reduce time.dt or raise time.dem_substeps";
   } else if (block == "dem" && (field == "damping_ratio" || field == "friction" || field == "rolling_friction" ||
-                                  field == "tangential_stiffness_ratio")) {
+                                  field == "tangential_stiffness_ratio" || field == "restitution" || field == "law")) {
     key = "dem.contact." + field;
   } else if (block == "continuum" && (field == "beta" || field == "gamma")) {
     key = "continuum.newmark." + field;

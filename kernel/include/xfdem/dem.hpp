@@ -13,6 +13,7 @@
 // shared/spec/paper-notes.md (full overlap, springs in series, damping ratio).
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,10 @@ enum class ContactLaw : std::uint8_t {
   linear,
   /// As linear, but the total normal force is clamped at zero (never attractive).
   linear_nontensile,
+  /// Hertz normal + Mindlin tangential (no micro-slip), damped by the
+  /// restitution (DemDesc::restitution), from the particles' and planes'
+  /// Young's moduli and Poisson's ratios (2D and 3D; docs/dem.md).
+  hertz,
 };
 
 /// Components of a particle's angular velocity: 1 in 2D (about z), 3 in 3D,
@@ -61,6 +66,12 @@ constexpr int angle_components(int dimension) { return dimension == 2 ? 1 : 0; }
 /// tangential contact oscillation (k_t (1/m + r²/I) = 3.5 k_t/m) has the
 /// normal one's frequency, so the stable step is unchanged.
 inline constexpr double kDefaultTangentialStiffnessRatio = 2.0 / 7.0;
+
+/// The hertz law's stiffness grows with the overlap: build_dem() checks dt
+/// against the stiffest contact at the overlap δ = kHertzReferenceOverlap · R*
+/// (S_n = 2 E* R* √0.01); the step's network bound uses the actual overlaps
+/// (StepStatus::unstable_time_step when a contact goes deeper than dt allows).
+inline constexpr double kHertzReferenceOverlap = 0.01;
 
 const char* integrator_name(DemIntegrator integrator) noexcept;
 const char* contact_law_name(ContactLaw law) noexcept;
@@ -83,6 +94,9 @@ struct ParticleDesc {
   std::array<double, spin_components(D)> angular_velocity{};
   /// kg·m², > 0; 0: the solid's own, ½ m r² (disk) or 2/5 m r² (sphere).
   double inertia = 0;
+  /// The hertz law's material (Pa, > 0; and ν in (−1, 0.5)); NaN: not given.
+  double youngs_modulus = NAN;
+  double poisson_ratio = NAN;
 };
 
 /// A fixed half-space boundary: the solid side is where (x − point)·normal < 0.
@@ -91,6 +105,9 @@ template <int D>
 struct PlaneDesc {
   std::array<double, D> point{};
   std::array<double, D> normal{};  ///< normalised by build_dem(); must not be zero
+  /// The hertz law's wall material; both NaN (not given): a rigid wall (1/E = 0).
+  double youngs_modulus = NAN;
+  double poisson_ratio = NAN;
 };
 
 /// Fixed bounds. 0 picks the default documented on each field. The two that
@@ -139,6 +156,9 @@ struct DemDesc {
   /// Rolling resistance μ_r (>= 0): a torque μ_r R* |F_n| against the
   /// relative rolling, never reversing it within a step.
   double rolling_friction = 0;
+  /// Coefficient of restitution e in (0, 1] of the hertz law (normal and
+  /// tangential damping, β = ln e / √(ln² e + π²)); 1: undamped. Other laws: must stay 1.
+  double restitution = 1;
   /// Give every particle an external force input (DemState::external_force,
   /// N, set by the host between steps, held over a step). Off: no such term.
   bool external_forces = false;
@@ -239,6 +259,10 @@ struct DemModel {
   std::vector<double> plane_eta;
   /// 1 / moment of inertia (rotating models only, else empty).
   std::vector<double> inv_inertia;
+  /// hertz: each particle's (1 − ν²)/E and 2(2 − ν)(1 + ν)/E, each plane's
+  /// (0 for a rigid wall), and −2√(5/6) β (empty / 0 for the linear laws).
+  std::vector<double> hertz_inv_e, hertz_inv_g, plane_inv_e, plane_inv_g;
+  double hertz_damping = 0;
   std::vector<std::array<double, D>> plane_point, plane_normal;
   double friction = 0, tangential_ratio = 0, rolling_friction = 0;  ///< DemDesc's (ratio resolved)
   std::array<double, D> gravity{};

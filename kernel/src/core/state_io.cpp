@@ -153,6 +153,11 @@ std::uint64_t dem_fingerprint(const DemModel<D>& m) noexcept {
   // The split into parts fixes the order of the sums across the parts.
   h = mix_u64(h, static_cast<std::uint64_t>(m.parts));
   h = mix_u64(h, static_cast<std::uint64_t>(m.split));
+  if (m.law == ContactLaw::hertz) {  // the materials (other laws' fingerprints unchanged)
+    h = mix_doubles(mix_doubles(h, m.hertz_inv_e), m.hertz_inv_g);
+    h = mix_doubles(mix_doubles(h, m.plane_inv_e), m.plane_inv_g);
+    h = mix_double(h, m.hertz_damping);
+  }
   return h;
 }
 

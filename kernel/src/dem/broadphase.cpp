@@ -158,7 +158,7 @@ StepStatus build_pair_list_untimed(const DemModel<D>& m, DemState<D>& s, DemWork
   ++s.list_builds;
   // The contacts touching now (listed pairs within the skin would count
   // near-misses that the dense packings of docs/benchmarks.md are full of).
-  s.network_omega2 = network_omega2<D>(m, s, w, x);
+  s.network_omega2 = m.law == ContactLaw::hertz ? network_omega2<D, true>(m, s, w, x) : network_omega2<D>(m, s, w, x);
   return StepStatus::ok;
 }
 

@@ -27,7 +27,7 @@ const char* integrator_name(DemIntegrator integrator) noexcept {
 }
 
 const char* contact_law_name(ContactLaw law) noexcept {
-  return law == ContactLaw::linear ? "linear" : "linear_nontensile";
+  return law == ContactLaw::linear ? "linear" : law == ContactLaw::linear_nontensile ? "linear_nontensile" : "hertz";
 }
 
 namespace dem_detail {
@@ -101,9 +101,56 @@ double inertia_of(const ParticleDesc<D>& p) {
   return (D == 2 ? 0.5 : 0.4) * p.mass * p.radius * p.radius;
 }
 
+/// (1 − ν²)/E and 2(2 − ν)(1 + ν)/E of a material (0, 0: rigid).
+struct Compliance {
+  double inv_e, inv_g;
+};
+inline Compliance compliance(double E, double nu) {
+  if (std::isnan(E) && std::isnan(nu)) return {0.0, 0.0};
+  return {(1.0 - nu * nu) / E, 2.0 * (2.0 - nu) * (1.0 + nu) / E};
+}
+
 template <int D>
 bool rotates(const DemDesc<D>& desc) {
-  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0);
+  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz);
+}
+
+/// The hertz law's stable-step rule: its stiffness grows with the overlap, so
+/// the build checks the stiffest contact at the reference overlap
+/// δ = kHertzReferenceOverlap · R* (S_n = 2 E* R* √0.01 there); the step's
+/// network bound then uses every contact's actual overlap.
+template <int D>
+double hertz_omega2(const DemDesc<D>& desc, bool pairs_possible) {
+  const double root = std::sqrt(kHertzReferenceOverlap);
+  double best = 0;
+  for (const auto& pl : desc.planes) {
+    const Compliance w = compliance(pl.youngs_modulus, pl.poisson_ratio);
+    for (const auto& p : desc.particles) {
+      const Compliance c = compliance(p.youngs_modulus, p.poisson_ratio);
+      best = std::max(best, 2.0 / (c.inv_e + w.inv_e) * p.radius * root / p.mass);
+    }
+  }
+  if (!pairs_possible) return best;
+  std::map<std::array<double, 4>, int> classes;
+  for (const auto& p : desc.particles) {
+    classes.emplace(std::array<double, 4>{p.youngs_modulus, p.poisson_ratio, p.mass, p.radius}, 0);
+    if (classes.size() > 2048) break;
+  }
+  if (classes.size() > 2048) {
+    // Bound: E* ≤ min of the two E/(1 − ν²), R* ≤ min r, so
+    // S_n (1/m_i + 1/m_j) ≤ 2 · 2√0.01 max(E r / ((1 − ν²) m)).
+    for (const auto& p : desc.particles)
+      best = std::max(best, 4.0 * root * p.radius / (compliance(p.youngs_modulus, p.poisson_ratio).inv_e * p.mass));
+    return best;
+  }
+  for (auto a = classes.begin(); a != classes.end(); ++a)
+    for (auto b = a; b != classes.end(); ++b) {
+      const auto [ea, na, ma, ra] = a->first;
+      const auto [eb, nb, mb, rb] = b->first;
+      const double e_star = 1.0 / (compliance(ea, na).inv_e + compliance(eb, nb).inv_e);
+      best = std::max(best, 2.0 * e_star * (ra * rb / (ra + rb)) * root * (1.0 / ma + 1.0 / mb));
+    }
+  return best;
 }
 
 template <std::size_t N>
@@ -127,7 +174,15 @@ BuildResult check_plane_overlaps(const DemDesc<D>& desc) {
       const double overlap = q.radius - height;
       if (!(overlap > q.radius)) continue;
       char speed[32];
-      dem_detail::format_speed(overlap * std::sqrt(q.stiffness / q.mass), speed, sizeof(speed));
+      // The speed its spring's energy would give it: ½ k δ² (hertz: 8/15 E* √r δ^{5/2}).
+      double e_star = 0;
+      if (desc.law == ContactLaw::hertz)
+        e_star = 1.0 / (compliance(q.youngs_modulus, q.poisson_ratio).inv_e +
+                        compliance(pl.youngs_modulus, pl.poisson_ratio).inv_e);
+      dem_detail::format_speed(desc.law == ContactLaw::hertz
+                                   ? std::sqrt(2.0 * dem_detail::hertz_energy(e_star, q.radius, overlap) / q.mass)
+                                   : overlap * std::sqrt(q.stiffness / q.mass),
+                               speed, sizeof(speed));
       return BuildResult::failure(Code::invalid_argument,
                                   "particles[%zu].position: overlaps planes[%zu] by %g m at the start, more than its "
                                   "radius %g m (its centre is on the plane's solid side): its contact would throw it "
@@ -153,8 +208,12 @@ BuildResult check_pair_overlaps(const DemModel<D>& m, const DemState<D>& s) {
     const double smaller = std::min(m.radius[i], m.radius[j]);
     if (!(overlap > smaller)) continue;
     char speed[32];
-    dem_detail::format_speed(overlap * std::sqrt(s.pair_stiffness[c] * (m.inv_mass[i] + m.inv_mass[j])), speed,
-                             sizeof(speed));
+    const double inv_m = m.inv_mass[i] + m.inv_mass[j];
+    dem_detail::format_speed(
+        m.law == ContactLaw::hertz
+            ? std::sqrt(2.0 * dem_detail::pair_spring_energy(m, i, j, s.pair_stiffness[c], overlap) * inv_m)
+            : overlap * std::sqrt(s.pair_stiffness[c] * inv_m),
+        speed, sizeof(speed));
     return BuildResult::failure(Code::invalid_argument,
                                 "particles[%d].position: overlaps particles[%d] by %g m at the start, more than the "
                                 "smaller radius %g m: their contact would throw them apart at up to %s",
@@ -170,8 +229,24 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
                        DemState<D>& s, DemWorkspace<D>& w) {
   const auto n = static_cast<std::int64_t>(desc.particles.size());
   // ---- stable step -----------------------------------------------------------
-  double omega2 = max_contact_omega2(desc, m.features.broad_phase != BroadPhase::none);
-  if (m.features.rotation && desc.friction > 0) {
+  const bool hertz = desc.law == ContactLaw::hertz;
+  const bool pairs_possible = m.features.broad_phase != BroadPhase::none;
+  double omega2 = hertz ? hertz_omega2(desc, pairs_possible) : max_contact_omega2(desc, pairs_possible);
+  if (hertz && desc.friction > 0) {
+    // S_t/S_n = 4 G*/E* ≤ 4 max over the bodies of (1/E)/(1/G) = 2(1 − ν)/(2 − ν)
+    // (a mediant of the two bodies' ratios), times (1 + m r²/I) for the turning.
+    double worst = 1.0;
+    for (const auto& p : desc.particles) {
+      const double ratio = 2.0 * (1.0 - p.poisson_ratio) / (2.0 - p.poisson_ratio);
+      worst = std::max(worst, ratio * (1.0 + p.mass * p.radius * p.radius / inertia_of(p)));
+    }
+    for (const auto& pl : desc.planes)
+      if (!std::isnan(pl.poisson_ratio))
+        for (const auto& p : desc.particles)
+          worst = std::max(worst, 2.0 * (1.0 - pl.poisson_ratio) / (2.0 - pl.poisson_ratio) *
+                                      (1.0 + p.mass * p.radius * p.radius / inertia_of(p)));
+    omega2 *= worst;
+  } else if (m.features.rotation && desc.friction > 0) {
     // The tangential spring with the particle free to turn: ω² = k_t (1/m + r²/I)
     // per body, k_t/k_n (1 + m r²/I) times the normal one at most.
     double worst = 1.0;
@@ -180,7 +255,9 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
     omega2 *= worst;
   }
   m.max_contact_omega = std::sqrt(omega2);
-  const double factor = dem_stable_step_factor(desc.integrator, desc.damping_ratio);
+  // hertz: η = −2√(5/6) β √(S m*) is the damping ratio ζ = −√(5/6) β.
+  const double zeta = hertz ? 0.5 * dem_detail::hertz_damping(desc.restitution) : desc.damping_ratio;
+  const double factor = dem_stable_step_factor(desc.integrator, zeta);
   m.stable_dt = omega2 > 0 ? factor / m.max_contact_omega : INFINITY;
   m.stable_factor = factor;
   if (desc.reject_unstable_dt && desc.dt > m.stable_dt)
@@ -188,7 +265,7 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
                                 "dt: %g s exceeds the stable step %g s of integrator %s for the stiffest contact "
                                 "(omega = %g rad/s, damping ratio %g; stable omega*dt = %.4f)",
                                 desc.dt, m.stable_dt, integrator_name(desc.integrator), m.max_contact_omega,
-                                desc.damping_ratio, factor);
+                                zeta, factor);
 
   // ---- particle columns ------------------------------------------------------
   const auto un = static_cast<std::size_t>(n);
@@ -204,6 +281,21 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
     m.radius[i] = p.radius;
     m.stiffness[i] = p.stiffness;
     m.plane_eta[i] = 2.0 * desc.damping_ratio * std::sqrt(p.stiffness * p.mass);
+  }
+  if (hertz) {
+    m.hertz_inv_e.resize(un);
+    m.hertz_inv_g.resize(un);
+    for (std::size_t i = 0; i < un; ++i) {
+      const Compliance c = compliance(desc.particles[i].youngs_modulus, desc.particles[i].poisson_ratio);
+      m.hertz_inv_e[i] = c.inv_e;
+      m.hertz_inv_g[i] = c.inv_g;
+    }
+    for (const auto& pl : desc.planes) {
+      const Compliance c = compliance(pl.youngs_modulus, pl.poisson_ratio);
+      m.plane_inv_e.push_back(c.inv_e);
+      m.plane_inv_g.push_back(c.inv_g);
+    }
+    m.hertz_damping = dem_detail::hertz_damping(desc.restitution);
   }
   if (m.features.rotation) {
     m.inv_inertia.resize(un);
@@ -328,7 +420,9 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
     }
     for (int d = 0; d < D; ++d) s.hist_v[0][d] = s.v[d];
     s.hist_plane_force[0] = w.plane_force;
-    if (m.features.broad_phase != BroadPhase::grid) s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
+    if (m.features.broad_phase != BroadPhase::grid)
+      s.network_omega2 = m.law == ContactLaw::hertz ? dem_detail::network_omega2<D, true>(m, s, w, x)
+                                                    : dem_detail::network_omega2<D>(m, s, w, x);
   }
   s.history_count = 1;
   m.energy_check = desc.energy_check;
@@ -363,7 +457,31 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     };
     if (!(std::isfinite(p.mass) && p.mass > 0)) return fail("mass", "must be finite and > 0", p.mass);
     if (!(std::isfinite(p.radius) && p.radius > 0)) return fail("radius", "must be finite and > 0", p.radius);
-    if (!(std::isfinite(p.stiffness) && p.stiffness > 0)) return fail("stiffness", "must be finite and > 0", p.stiffness);
+    if (desc.law != ContactLaw::hertz) {
+      if (!(std::isfinite(p.stiffness) && p.stiffness > 0)) return fail("stiffness", "must be finite and > 0", p.stiffness);
+    } else {
+      if (p.stiffness != 0) return fail("stiffness", "the hertz law takes youngs_modulus and poisson_ratio instead", p.stiffness);
+      if (std::isnan(p.youngs_modulus) && std::isnan(p.poisson_ratio))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "particles[%lld]: the hertz law needs youngs_modulus and poisson_ratio (both missing)",
+                                    (long long)i);
+      if (std::isnan(p.youngs_modulus))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "particles[%lld].youngs_modulus: missing (the hertz law needs it; poisson_ratio is given)",
+                                    (long long)i);
+      if (std::isnan(p.poisson_ratio))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "particles[%lld].poisson_ratio: missing (the hertz law needs it; youngs_modulus is given)",
+                                    (long long)i);
+      if (!(std::isfinite(p.youngs_modulus) && p.youngs_modulus > 0))
+        return fail("youngs_modulus", "must be finite and > 0", p.youngs_modulus);
+      if (!(p.poisson_ratio > -1 && p.poisson_ratio < 0.5))
+        return fail("poisson_ratio", "must be in (-1, 0.5)", p.poisson_ratio);
+    }
+    if (desc.law != ContactLaw::hertz && !(std::isnan(p.youngs_modulus) && std::isnan(p.poisson_ratio)))
+      return fail(std::isnan(p.youngs_modulus) ? "poisson_ratio" : "youngs_modulus",
+                  "only the hertz law takes a material (this model's law is linear)",
+                  std::isnan(p.youngs_modulus) ? p.poisson_ratio : p.youngs_modulus);
     if (!finite_array(p.position.data(), D))
       return BuildResult::failure(Code::invalid_argument, "particles[%lld].position: must be finite", (long long)i);
     if (!finite_array(p.velocity.data(), D))
@@ -376,6 +494,24 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
     double len2 = 0;
     for (double c : pl.normal) len2 += c * c;
     if (!(len2 > 1e-300)) return BuildResult::failure(Code::invalid_argument, "planes[%zu].normal: must not be zero", p);
+    const bool no_e = std::isnan(pl.youngs_modulus), no_nu = std::isnan(pl.poisson_ratio);
+    if (!(no_e && no_nu)) {  // absent (both): a rigid wall
+      if (desc.law != ContactLaw::hertz)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "planes[%zu].%s: only the hertz law takes a wall material (this model's law is linear)",
+                                    p, no_e ? "poisson_ratio" : "youngs_modulus");
+      if (no_e || no_nu)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "planes[%zu].%s: missing (a wall's material needs youngs_modulus and poisson_ratio; "
+                                    "neither: a rigid wall)",
+                                    p, no_e ? "youngs_modulus" : "poisson_ratio");
+      if (!(std::isfinite(pl.youngs_modulus) && pl.youngs_modulus > 0))
+        return BuildResult::failure(Code::invalid_argument, "planes[%zu].youngs_modulus: must be finite and > 0 (got %g)",
+                                    p, pl.youngs_modulus);
+      if (!(pl.poisson_ratio > -1 && pl.poisson_ratio < 0.5))
+        return BuildResult::failure(Code::invalid_argument, "planes[%zu].poisson_ratio: must be in (-1, 0.5) (got %g)",
+                                    p, pl.poisson_ratio);
+    }
   }
   if (BuildResult r = check_plane_overlaps(desc); !r.ok()) return r;
   // ---- friction and rotation ---------------------------------------------------
@@ -398,7 +534,26 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       return BuildResult::failure(Code::invalid_argument, "particles[%lld].angular_velocity: must be finite",
                                   (long long)i);
   }
-  if (desc.friction > 0 || desc.rolling_friction > 0) {
+  if (!(desc.restitution > 0 && desc.restitution <= 1))
+    return BuildResult::failure(Code::invalid_argument, "restitution: must be in (0, 1] (got %g)", desc.restitution);
+  if (desc.law == ContactLaw::hertz) {
+    if (D == 1)
+      return BuildResult::failure(Code::invalid_argument, "law: hertz needs 2D or 3D (rods on a line take the linear laws)");
+    if (desc.damping_ratio != 0)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "damping_ratio: the hertz law is damped by its restitution instead (got %g)",
+                                  desc.damping_ratio);
+    if (desc.tangential_stiffness_ratio != 0)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "tangential_stiffness_ratio: the hertz law's tangential stiffness is Mindlin's 8 G* "
+                                  "sqrt(R* delta) (got %g)",
+                                  desc.tangential_stiffness_ratio);
+  } else if (desc.restitution != 1) {
+    return BuildResult::failure(Code::invalid_argument,
+                                "restitution: only the hertz law takes it (the linear laws take damping_ratio; got %g)",
+                                desc.restitution);
+  }
+  if (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz) {
     if (D == 1)
       return BuildResult::failure(Code::invalid_argument,
                                   "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",

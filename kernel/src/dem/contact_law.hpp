@@ -6,6 +6,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "xfdem/dem.hpp"
 
@@ -40,6 +41,49 @@ inline double normal_force(bool nontensile, double K, double eta, double overlap
 /// Energy of the normal spring at overlap δ > 0: ½ K δ².
 inline double spring_energy(double K, double overlap) { return 0.5 * K * overlap * overlap; }
 
+/// The hertz law at one contact: E*, G*, R* and m* of the two bodies, the
+/// model's −2√(5/6) β (`damping`), overlap δ > 0 and rate δ'.
+///   F_n = 4/3 E* √R* δ^{3/2} + η_n δ',  S_n = 2 E* √(R* δ),  S_t = 8 G* √(R* δ),
+///   η_n = −2√(5/6) β √(S_n m*),  η_t = −2√(5/6) β √(S_t m*).
+/// Like `linear`, the dashpot may pull at the end of a contact (as LIGGGHTS
+/// without `limitForce`).
+struct HertzContact {
+  double fn, sn, st, eta_n, eta_t;
+};
+inline HertzContact hertz_contact(double e_star, double g_star, double r_star, double m_star, double damping,
+                                  double overlap, double rate) {
+  HertzContact c{};
+  if (!(overlap > 0)) return c;
+  const double root = std::sqrt(r_star * overlap);
+  c.sn = 2.0 * e_star * root;
+  c.st = 8.0 * g_star * root;
+  c.eta_n = damping * std::sqrt(c.sn * m_star);
+  c.eta_t = damping * std::sqrt(c.st * m_star);
+  c.fn = (2.0 / 3.0) * c.sn * overlap + c.eta_n * rate;
+  return c;
+}
+
+/// Energy of the Hertz normal spring at overlap δ > 0: 8/15 E* √R* δ^{5/2}
+/// (= 2/5 of its elastic force times δ).
+inline double hertz_energy(double e_star, double r_star, double overlap) {
+  if (!(overlap > 0)) return 0.0;
+  return (8.0 / 15.0) * e_star * std::sqrt(r_star * overlap) * overlap * overlap;
+}
+
+/// Energy of a pair's normal spring at overlap δ > 0; K the pair's cached
+/// stiffness (hertz: E*).
+template <int D>
+double pair_spring_energy(const DemModel<D>& m, std::int32_t i, std::int32_t j, double K, double overlap) {
+  if (m.law != ContactLaw::hertz) return spring_energy(K, overlap);
+  return hertz_energy(K, m.radius[i] * m.radius[j] / (m.radius[i] + m.radius[j]), overlap);
+}
+
+/// −2√(5/6) β with β = ln e / √(ln² e + π²): 0 for e = 1.
+inline double hertz_damping(double restitution) {
+  const double l = std::log(restitution);
+  return -2.0 * std::sqrt(5.0 / 6.0) * l / std::sqrt(l * l + std::numbers::pi * std::numbers::pi);
+}
+
 /// Tangential spring of one contact: stiffness k_t, sticking dashpot η_t and
 /// Coulomb coefficient μ.
 struct TangentialLaw {
@@ -58,6 +102,9 @@ struct TangentialLaw {
 ///     ξ to carry the cap alone would store the dashpot's share in the spring
 ///     and create energy at every slip.)
 /// Returns F; writes ξ back.
+/// The hertz law keeps its history as a force instead (Mindlin's stiffness
+/// changes with the overlap): it calls this with k_t = 1 and h' = S_t h, so
+/// that ξ holds −F_spring and each step adds S_t Δξ to the spring force.
 template <int D>
 inline void tangential_force(const TangentialLaw& law, const double (&n)[D], const double (&vt)[D], double fn,
                              double h, double (&xi)[D], double (&force)[D]) {

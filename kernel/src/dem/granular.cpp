@@ -74,7 +74,13 @@ ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t
   }
   double rate = 0;
   for (int d = 0; d < D; ++d) rate -= (vj[d] - vi[d]) * r.normal[d];
-  r.fn = normal_force(m.law == ContactLaw::linear_nontensile, K, eta, reach - dist, rate);
+  const bool hertz = m.law == ContactLaw::hertz;
+  const double m_eff = 1.0 / (m.inv_mass[i] + m.inv_mass[j]);
+  // hertz: the list caches E* and G* in K and eta (contact_parameters.hpp).
+  const HertzContact hc =
+      hertz ? hertz_contact(K, eta, m.radius[i] * m.radius[j] / reach, m_eff, m.hertz_damping, reach - dist, rate)
+            : HertzContact{};
+  r.fn = hertz ? hc.fn : normal_force(m.law == ContactLaw::linear_nontensile, K, eta, reach - dist, rate);
   // The contact point's sliding velocity, j relative to i: (v_j − v_i) − (r_i ω_i + r_j ω_j) × n.
   double spin[S], turn[D], vt[D], vn = 0;
   for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k] + m.radius[j] * wj[k];
@@ -85,10 +91,13 @@ ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t
   }
   for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
   if (m.friction > 0) {
-    const double kt = m.tangential_ratio * K;
-    const double m_eff = 1.0 / (m.inv_mass[i] + m.inv_mass[j]);
-    const TangentialLaw law{kt, 2.0 * m.damping_ratio * std::sqrt(kt * m_eff), m.friction};
-    tangential_force<D>(law, r.normal, vt, r.fn, h, xi, r.ft);
+    if (hertz) {  // the history is a force: k_t = 1, each step adds S_t Δξ
+      tangential_force<D>(TangentialLaw{1.0, hc.eta_t, m.friction}, r.normal, vt, r.fn, hc.st * h, xi, r.ft);
+    } else {
+      const double kt = m.tangential_ratio * K;
+      const TangentialLaw law{kt, 2.0 * m.damping_ratio * std::sqrt(kt * m_eff), m.friction};
+      tangential_force<D>(law, r.normal, vt, r.fn, h, xi, r.ft);
+    }
   }
   // Torques: −r_i n × F_t on i, −r_j n × F_t on j (F_t acts on j, −F_t on i).
   double nf[S];
@@ -125,7 +134,13 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
   for (int d = 0; d < D; ++d) r.normal[d] = m.plane_normal[p][d];
   double rate = speed;
   for (int d = 0; d < D; ++d) rate -= vi[d] * r.normal[d];
-  r.fn = normal_force(m.law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
+  const bool hertz = m.law == ContactLaw::hertz;
+  const HertzContact hc = hertz ? hertz_contact(1.0 / (m.hertz_inv_e[i] + m.plane_inv_e[p]),
+                                                1.0 / (m.hertz_inv_g[i] + m.plane_inv_g[p]), m.radius[i], m.mass[i],
+                                                m.hertz_damping, overlap, rate)
+                                : HertzContact{};
+  r.fn = hertz ? hc.fn
+               : normal_force(m.law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
   double spin[S], turn[D], vt[D], vn = 0;
   for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k];
   spin_cross<D>(spin, r.normal, turn);
@@ -135,9 +150,13 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
   }
   for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
   if (m.friction > 0) {
-    const double kt = m.tangential_ratio * m.stiffness[i];
-    const TangentialLaw law{kt, 2.0 * m.damping_ratio * std::sqrt(kt * m.mass[i]), m.friction};
-    tangential_force<D>(law, r.normal, vt, r.fn, h, xi, r.ft);
+    if (hertz) {
+      tangential_force<D>(TangentialLaw{1.0, hc.eta_t, m.friction}, r.normal, vt, r.fn, hc.st * h, xi, r.ft);
+    } else {
+      const double kt = m.tangential_ratio * m.stiffness[i];
+      const TangentialLaw law{kt, 2.0 * m.damping_ratio * std::sqrt(kt * m.mass[i]), m.friction};
+      tangential_force<D>(law, r.normal, vt, r.fn, h, xi, r.ft);
+    }
   }
   double nf[S];
   moment<D>(r.normal, r.ft, nf);
@@ -567,7 +586,7 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   if (m.features.broad_phase != BroadPhase::grid) {
     ConstColumns<D> x;
     for (int d = 0; d < D; ++d) x[d] = s.x[d].data();
-    s.network_omega2 = network_omega2<D>(m, s, w, x);
+    s.network_omega2 = m.law == ContactLaw::hertz ? network_omega2<D, true>(m, s, w, x) : network_omega2<D>(m, s, w, x);
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;

@@ -39,7 +39,9 @@ void add_outer(double* t, double weight, const double (&n)[D]) {
 
 /// Gershgorin bound on the squared highest frequency of the contacts touching
 /// at positions x: listed pairs that overlap and planes a sphere reaches.
-template <int D>
+/// Hertz: K is the tangent stiffness S_n = 2 E* √(R* δ) at the contact's
+/// current overlap (the pair list caches E*).
+template <int D, bool Hertz = false>
 [[gnu::always_inline]] inline double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   constexpr int kEntries = D * (D + 1) / 2;
   const std::int32_t n = m.n;
@@ -54,7 +56,9 @@ template <int D>
     double normal[D];
     const double dist = std::sqrt(dist2);
     for (int d = 0; d < D; ++d) normal[d] = dist > 0 ? dx[d] / dist : (d == 0 ? 1.0 : 0.0);
-    const double omega2 = s.pair_stiffness[c] * (m.inv_mass[i] + m.inv_mass[j]);
+    double stiffness = s.pair_stiffness[c];
+    if constexpr (Hertz) stiffness = 2.0 * stiffness * std::sqrt(m.radius[i] * m.radius[j] / reach * (reach - dist));
+    const double omega2 = stiffness * (m.inv_mass[i] + m.inv_mass[j]);
     network::add_outer<D>(t + std::int64_t{i} * kEntries, omega2, normal);
     network::add_outer<D>(t + std::int64_t{j} * kEntries, omega2, normal);
   }
@@ -66,8 +70,11 @@ template <int D>
     for (std::int32_t i = 0; i < n; ++i) {
       double height = 0;
       for (int d = 0; d < D; ++d) height += (x[d][i] - point[d]) * normal[d];
-      if (m.radius[i] - height > 0)
-        network::add_outer<D>(t + std::int64_t{i} * kEntries, m.stiffness[i] * m.inv_mass[i], normal);
+      const double overlap = m.radius[i] - height;
+      if (!(overlap > 0)) continue;
+      double stiffness = m.stiffness[i];
+      if constexpr (Hertz) stiffness = 2.0 / (m.hertz_inv_e[i] + m.plane_inv_e[p]) * std::sqrt(m.radius[i] * overlap);
+      network::add_outer<D>(t + std::int64_t{i} * kEntries, stiffness * m.inv_mass[i], normal);
     }
   }
   double worst = 0;

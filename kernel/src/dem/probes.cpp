@@ -41,6 +41,16 @@ double contact_force(const DemModel<D>& m, double K, double eta, double overlap,
   return dem_detail::normal_force(m.law == ContactLaw::linear_nontensile, K, eta, overlap, rate);
 }
 
+/// hertz: E*, G* of particle i against plane p (a rigid wall adds nothing).
+template <int D>
+double plane_e_star(const DemModel<D>& m, std::int32_t i, std::size_t p) {
+  return 1.0 / (m.hertz_inv_e[i] + m.plane_inv_e[p]);
+}
+template <int D>
+double plane_g_star(const DemModel<D>& m, std::int32_t i, std::size_t p) {
+  return 1.0 / (m.hertz_inv_g[i] + m.plane_inv_g[p]);
+}
+
 /// Particle i's ½ m v² (+ ½ I ω² when it rotates) and its −m g·x (datum x = 0).
 struct ParticleEnergy {
   double kinetic, potential;
@@ -78,6 +88,11 @@ double tangential_springs(const DemModel<D>& m, const DemState<D>& s, std::int32
     plane_xi[d] = s.plane_xi[d].data();
     pair_xi[d] = s.pair_xi[d].data();
   }
+  // hertz: the Mindlin spring kept as a force has no potential (its stiffness
+  // changes with the overlap, so ½ |F|²/S_t would grow as a contact unloads
+  // with F held): the books leave it out, and so count a lower bound of the
+  // energy in motion; a gain past the start is still a gain.
+  if (m.law == ContactLaw::hertz) return 0.0;
   for (std::size_t p = 0; p < m.plane_point.size(); ++p)
     for (std::int32_t i = begin; i < end; ++i)
       sum += dem_detail::tangential_energy<D>(m.tangential_ratio * m.stiffness[i], plane_xi,
@@ -99,7 +114,9 @@ DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
     e.potential += pe.potential;
     for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
       const double overlap = plane_overlap(m, s, i, p, nullptr);
-      if (overlap > 0) e.elastic += dem_detail::spring_energy(m.stiffness[i], overlap);
+      if (overlap > 0)
+        e.elastic += m.law == ContactLaw::hertz ? dem_detail::hertz_energy(plane_e_star(m, i, p), m.radius[i], overlap)
+                                                : dem_detail::spring_energy(m.stiffness[i], overlap);
     }
   }
   if constexpr (D > 1)
@@ -109,7 +126,7 @@ DemEnergy dem_energy(const DemModel<D>& m, const DemState<D>& s) {
   for (std::int32_t i = 0; i < m.n; ++i)
     for (std::int32_t j = i + 1; j < m.n; ++j) {
       const double overlap = pair_overlap(m, s, i, j, nullptr);
-      if (overlap > 0) e.elastic += dem_detail::spring_energy(dem_detail::pair_parameters(m, i, j).stiffness, overlap);
+      if (overlap > 0) e.elastic += dem_detail::pair_spring_energy(m, i, j, dem_detail::pair_parameters(m, i, j).stiffness, overlap);
     }
   return e;
 }
@@ -127,7 +144,9 @@ double plane_elastic_energy(const DemModel<D>& m, const DemState<D>& s, std::siz
     double gap = 0;
     for (int d = 0; d < D; ++d) gap += (s.x[d][i] - point[d]) * normal[d];
     const double overlap = m.radius[i] - gap;
-    if (overlap > 0) elastic += spring_energy(m.stiffness[i], overlap);
+    if (overlap > 0)
+      elastic += m.law == ContactLaw::hertz ? hertz_energy(plane_e_star(m, i, p), m.radius[i], overlap)
+                                            : spring_energy(m.stiffness[i], overlap);
   }
   return elastic;
 }
@@ -165,7 +184,7 @@ EnergyTotals energy_totals(const DemModel<D>& m, const DemState<D>& s, const Par
       const double reach = m.radius[i] + m.radius[j];
       if (dist2 >= reach * reach) continue;
       const double overlap = reach - std::sqrt(dist2);
-      sum.elastic += spring_energy(s.pair_stiffness[k], overlap);
+      sum.elastic += pair_spring_energy(m, i, j, s.pair_stiffness[k], overlap);
     }
     if constexpr (D > 1)
       if (m.features.rotation) sum.elastic += tangential_springs(m, s, begin, end, pair_begin, pair_end);
@@ -188,6 +207,10 @@ double dem_pair_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t i
   double rate = 0;
   const double overlap = pair_overlap(m, s, i, j, &rate);
   const dem_detail::PairParameters pp = dem_detail::pair_parameters(m, i, j);
+  if (m.law == ContactLaw::hertz)
+    return dem_detail::hertz_contact(pp.stiffness, pp.eta, m.radius[i] * m.radius[j] / (m.radius[i] + m.radius[j]),
+                                     1.0 / (m.inv_mass[i] + m.inv_mass[j]), m.hertz_damping, overlap, rate)
+        .fn;
   return contact_force(m, pp.stiffness, pp.eta, overlap, rate);
 }
 
@@ -196,6 +219,12 @@ double dem_plane_force(const DemModel<D>& m, const DemState<D>& s, std::int32_t 
   if (i < 0 || i >= m.n || p < 0 || p >= static_cast<std::int32_t>(m.plane_point.size())) return NAN;
   double rate = 0;
   const double overlap = plane_overlap(m, s, i, static_cast<std::size_t>(p), &rate);
+  if (m.law == ContactLaw::hertz) {
+    const auto q = static_cast<std::size_t>(p);
+    return dem_detail::hertz_contact(plane_e_star(m, i, q), plane_g_star(m, i, q), m.radius[i], m.mass[i],
+                                     m.hertz_damping, overlap, rate)
+        .fn;
+  }
   return contact_force(m, m.stiffness[i], m.plane_eta[i], overlap, rate);
 }
 
