@@ -410,6 +410,36 @@ TEST_P(ContactRecords, TwoWorkersSnapshotsAndNoAllocation) {
   EXPECT_GT(one.state.list_builds, 1);
 }
 
+// A snapshot names its model by a fingerprint that covers the tangential law:
+// restored into a model that differs only in μ, μ_r, k_t/k_n or an inertia, it
+// is refused (the springs it carries were built under the other law).
+TEST(ContactRecords, SnapshotOfAnotherTangentialLawIsRefused) {
+  const DemDesc<2> d = box_of_disks(20, 0);
+  DemWorld<2> source;
+  ASSERT_TRUE(source.build(d).ok());
+  for (int k = 0; k < 100; ++k) ASSERT_FALSE(has(source.step(), kStepNotTaken));
+  std::vector<std::byte> buffer(snapshot_size(source.state));
+  ASSERT_EQ(save_snapshot(source.state, buffer, model_fingerprint(source.model)).status, SnapshotStatus::ok);
+  auto restore_into = [&](DemDesc<2> other) {
+    DemWorld<2> world;
+    EXPECT_TRUE(world.build(other).ok());
+    return restore_snapshot(world.state, buffer, model_fingerprint(world.model)).status;
+  };
+  EXPECT_EQ(restore_into(d), SnapshotStatus::ok);
+  DemDesc<2> other = d;
+  other.friction = 0.4;
+  EXPECT_EQ(restore_into(other), SnapshotStatus::other_model);
+  other = d;
+  other.rolling_friction = 0.04;
+  EXPECT_EQ(restore_into(other), SnapshotStatus::other_model);
+  other = d;
+  other.tangential_stiffness_ratio = 0.5;
+  EXPECT_EQ(restore_into(other), SnapshotStatus::other_model);
+  other = d;
+  other.particles[3].inertia = 1e-6;
+  EXPECT_EQ(restore_into(other), SnapshotStatus::other_model);
+}
+
 INSTANTIATE_TEST_SUITE_P(Integrators, ContactRecords, ::testing::ValuesIn(kRotating),
                          [](const auto& param_info) { return std::string(integrator_name(param_info.param)); });
 

@@ -158,6 +158,10 @@ std::uint64_t dem_fingerprint(const DemModel<D>& m) noexcept {
     h = mix_doubles(mix_doubles(h, m.plane_inv_e), m.plane_inv_g);
     h = mix_double(h, m.hertz_damping);
   }
+  if (!m.inv_inertia.empty()) {  // rotating models: the tangential law (frictionless fingerprints unchanged)
+    h = mix_doubles(h, m.inv_inertia);
+    h = mix_double(mix_double(mix_double(h, m.friction), m.tangential_ratio), m.rolling_friction);
+  }
   return h;
 }
 
