@@ -41,16 +41,6 @@ std::string incline_scene(const std::string& integrator) {
   return o.str();
 }
 
-std::vector<double> last_row(const fs::path& csv) {
-  std::ifstream in(csv);
-  std::string line, last;
-  while (std::getline(in, line)) last = line;
-  std::vector<double> values;
-  std::stringstream row(last);
-  for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
-  return values;
-}
-
 // Sliding: the tangential force is the Coulomb cap μ F_n exactly, and the
 // force the disk puts on the slope points down it, i.e. against the tangent
 // t = (−n_y, n_x) of n from the disk to the slope; the friction torque spins
@@ -63,7 +53,7 @@ TEST(FrictionCli, SlidingDiskProbesReadTheCoulombCapAndTheSpinUp) {
   std::ofstream(scene) << incline_scene("verlet");
   const auto r = run("run " + scene.string() + " --csv " + csv.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::vector<double> row = last_row(csv);
+  const std::vector<double> row = xfdem::testing::last_csv_row(csv);
   ASSERT_EQ(row.size(), 5u);
   const double t = row[0], w = row[1], angle = row[2], fn = row[3], ft = row[4];
   const double theta = 40 * kPi / 180, g = 9.81, mu = 0.2;

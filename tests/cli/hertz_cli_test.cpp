@@ -40,16 +40,6 @@ std::string resting_disk(const std::string& extra_contact, const std::string& ex
   return o.str();
 }
 
-std::vector<double> last_row(const fs::path& csv) {
-  std::ifstream in(csv);
-  std::string line, last;
-  while (std::getline(in, line)) last = line;
-  std::vector<double> values;
-  std::stringstream row(last);
-  for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
-  return values;
-}
-
 // At rest on the floor: the Hertz force at the static overlap carries m g
 // (round-off of the overlap's 2/3 power and of the steps), no tangential load.
 TEST(HertzCli, RestingDiskCarriesItsWeight) {
@@ -58,7 +48,7 @@ TEST(HertzCli, RestingDiskCarriesItsWeight) {
   std::ofstream(scene) << resting_disk("", R"("poisson_ratio": 0.3, )");
   const auto r = run("run " + scene.string() + " --csv " + csv.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::vector<double> row = last_row(csv);
+  const std::vector<double> row = xfdem::testing::last_csv_row(csv);
   ASSERT_EQ(row.size(), 4u);
   EXPECT_NEAR(row[0], 0.5, 1e-12);
   EXPECT_NEAR(row[1], kMass * kG, 1e-9 * kMass * kG);

@@ -14,6 +14,7 @@
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 #include "xfdem/state_io.hpp"
+#include "support/dem_replay.hpp"
 
 namespace xfdem::testing {
 namespace {
@@ -386,27 +387,8 @@ TEST_P(ContactRecords, SurvivePairListRebuildsBitForBit) {
 // Two workers, a snapshot taken half-way and restored into a fresh world, and
 // no allocation in any step: the same bits.
 TEST_P(ContactRecords, TwoWorkersSnapshotsAndNoAllocation) {
-  const DemDesc<2> d = box_of_disks(200, 0, GetParam());
-  DemWorld<2> one, two, restored;
-  ASSERT_TRUE(one.build(d).ok());
-  ASSERT_TRUE(two.build(d).ok());
-  ASSERT_TRUE(restored.build(d).ok());
-  platform::TwoWorkerPool pool;
-  two.workspace.parallel = pool.parallel_for();
-  std::vector<std::byte> buffer(snapshot_size(one.state));
-  platform::AllocationCounter counter;
-  for (int k = 0; k < 4000; ++k) {
-    ASSERT_FALSE(has(one.step(), kStepNotTaken));
-    ASSERT_FALSE(has(two.step(), kStepNotTaken));
-    if (k == 1999) {
-      ASSERT_EQ(save_snapshot(one.state, buffer, model_fingerprint(one.model)).status, SnapshotStatus::ok);
-    }
-  }
-  EXPECT_EQ(counter.allocations(), 0u);
-  EXPECT_EQ(state_hash(one.state), state_hash(two.state));
-  ASSERT_EQ(restore_snapshot(restored.state, buffer, model_fingerprint(restored.model)).status, SnapshotStatus::ok);
-  for (int k = 2000; k < 4000; ++k) ASSERT_FALSE(has(restored.step(), kStepNotTaken));
-  EXPECT_EQ(state_hash(restored.state), state_hash(one.state));
+  DemWorld<2> one;
+  xfdem::testing::expect_same_bits_on_two_workers_and_after_a_snapshot(box_of_disks(200, 0, GetParam()), one);
   EXPECT_GT(one.state.list_builds, 1);
 }
 

@@ -15,6 +15,7 @@
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 #include "xfdem/state_io.hpp"
+#include "support/dem_replay.hpp"
 
 namespace xfdem::testing {
 namespace {
@@ -401,28 +402,8 @@ class HertzRecords : public ::testing::TestWithParam<DemIntegrator> {};
 // Two workers, a snapshot half-way restored into a fresh world, no
 // allocation in any step: the same bits; the springs carry force.
 TEST_P(HertzRecords, TwoWorkersSnapshotsAndNoAllocation) {
-  const DemDesc<2> d = hertz_box(GetParam());
-  DemWorld<2> one, two, restored;
-  const BuildResult built = one.build(d);
-  ASSERT_TRUE(built.ok()) << built.message;
-  ASSERT_TRUE(two.build(d).ok());
-  ASSERT_TRUE(restored.build(d).ok());
-  platform::TwoWorkerPool pool;
-  two.workspace.parallel = pool.parallel_for();
-  std::vector<std::byte> buffer(snapshot_size(one.state));
-  platform::AllocationCounter counter;
-  for (int k = 0; k < 4000; ++k) {
-    ASSERT_FALSE(has(one.step(), kStepNotTaken));
-    ASSERT_FALSE(has(two.step(), kStepNotTaken));
-    if (k == 1999) {
-      ASSERT_EQ(save_snapshot(one.state, buffer, model_fingerprint(one.model)).status, SnapshotStatus::ok);
-    }
-  }
-  EXPECT_EQ(counter.allocations(), 0u);
-  EXPECT_EQ(state_hash(one.state), state_hash(two.state));
-  ASSERT_EQ(restore_snapshot(restored.state, buffer, model_fingerprint(restored.model)).status, SnapshotStatus::ok);
-  for (int k = 2000; k < 4000; ++k) ASSERT_FALSE(has(restored.step(), kStepNotTaken));
-  EXPECT_EQ(state_hash(restored.state), state_hash(one.state));
+  DemWorld<2> one;
+  xfdem::testing::expect_same_bits_on_two_workers_and_after_a_snapshot(hertz_box(GetParam()), one);
   int loaded = 0;
   for (std::int32_t c = 0; c < one.state.pair_count; ++c) loaded += one.state.pair_xi[0][c] != 0.0 ? 1 : 0;
   EXPECT_GT(loaded, 10);

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdlib>
 #include <filesystem>
+#include <vector>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -41,5 +42,16 @@ inline CommandResult run_command(const std::string& program, const std::string& 
 
 /// Path of a scene file of scenes/.
 inline std::string scene_file(const char* name) { return std::string(XFDEM_SOURCE_DIR) + "/scenes/" + name; }
+
+/// The numbers of a CSV file's last row (the run's final sample).
+inline std::vector<double> last_csv_row(const std::filesystem::path& csv) {
+  std::ifstream in(csv);
+  std::string line, last;
+  while (std::getline(in, line)) last = line;
+  std::vector<double> values;
+  std::stringstream row(last);
+  for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
+  return values;
+}
 
 }  // namespace xfdem::testing
