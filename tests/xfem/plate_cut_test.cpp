@@ -514,26 +514,7 @@ TEST(PlateCut, TiedCrackAcrossTheColumnIsTheXfemBar) {
   BarState bs;
   BarWorkspace bw;
   ASSERT_TRUE(build_bar(bd, bm, bs, bw).ok());
-  PlateDesc d;
-  d.plane = PlateDesc::Plane::stress;
-  d.min[0] = 0.0, d.min[1] = 0.0, d.max[0] = 1.0, d.max[1] = bd.length;
-  d.cells[0] = 1, d.cells[1] = bd.elements;
-  d.thickness = bd.area;
-  d.youngs_modulus = bd.youngs_modulus;
-  d.poisson_ratio = 0.0;
-  d.density = bd.density;
-  d.dt = bd.dt, d.beta = bd.beta, d.gamma = bd.gamma;
-  d.supports.push_back({PlateEdge::left, {true, false}, false});
-  d.supports.push_back({PlateEdge::right, {true, false}, false});
-  d.supports.push_back({PlateEdge::bottom, {false, true}, false});
-  for (double x : {0.0, 1.0}) {
-    PlateLoad f;
-    f.kind = PlateLoad::Kind::point_force;
-    f.at[0] = x, f.at[1] = bd.length;
-    f.value[1] = 0.5 * bd.tip_amplitude;
-    f.shape = PlateLoadShape::half_sine, f.duration = bd.tip_duration;
-    d.loads.push_back(f);
-  }
+  PlateDesc d = test::column_of(bd);
   d.discontinuities.push_back(crack({{-0.5, 12.3}, {1.5, 12.3}}, PlateDiscontinuity::Faces::tied,
                                     bd.interface->stiffness / (bd.area * 1.0)));
   Built p;

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "xfdem/bar.hpp"
+#include "xfdem/plate.hpp"
 
 namespace xfdem::test {
 
@@ -104,6 +105,35 @@ inline BarDesc v2_rod(int elements = 30, double dt = 1e-3) {
   d.tip_load = BarDesc::TipLoad::half_sine;
   d.tip_amplitude = -1e4;
   d.tip_duration = 0.25;
+  return d;
+}
+
+/// The bar `bd` as a plate: a column one cell wide (1 m, thickness A) on
+/// rollers, plane stress with ν = 0, the bar's elements as its cells, the tip
+/// load as two point forces on the top corners; the bottom fixed in y, or
+/// with Lysmer dashpots where the bar's base is absorbing.
+inline PlateDesc column_of(const BarDesc& bd) {
+  const bool absorbing = bd.base == BarDesc::Base::absorbing;
+  PlateDesc d;
+  d.plane = PlateDesc::Plane::stress;
+  d.min[0] = 0.0, d.min[1] = 0.0, d.max[0] = 1.0, d.max[1] = bd.length;
+  d.cells[0] = 1, d.cells[1] = bd.elements;
+  d.thickness = bd.area;
+  d.youngs_modulus = bd.youngs_modulus;
+  d.poisson_ratio = 0.0;
+  d.density = bd.density;
+  d.dt = bd.dt, d.beta = bd.beta, d.gamma = bd.gamma;
+  d.supports.push_back({PlateEdge::left, {true, false}, false});
+  d.supports.push_back({PlateEdge::right, {true, false}, false});
+  d.supports.push_back({PlateEdge::bottom, {false, !absorbing}, absorbing});
+  for (double x : {0.0, 1.0}) {
+    PlateLoad f;
+    f.kind = PlateLoad::Kind::point_force;
+    f.at[0] = x, f.at[1] = bd.length;
+    f.value[1] = 0.5 * bd.tip_amplitude;
+    f.shape = PlateLoadShape::half_sine, f.duration = bd.tip_duration;
+    d.loads.push_back(f);
+  }
   return d;
 }
 
