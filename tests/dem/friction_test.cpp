@@ -453,7 +453,7 @@ TEST(FrictionInputs, RefusedNamingTheKey) {
   refused(d, "particles[0].angular_velocity:");
   d = good;
   d.integrator = DemIntegrator::abm4_events;
-  refused(d, "integrator:");
+  refused(d, "integrator: abm4_events cannot carry friction, rolling friction or the hertz law");
   DemDesc<1> line;
   line.dt = 1e-5;
   line.friction = 0.3;
