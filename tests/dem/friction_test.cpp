@@ -15,6 +15,7 @@
 #include "xfdem/platform/worker_pool.hpp"
 #include "xfdem/state_io.hpp"
 #include "support/dem_replay.hpp"
+#include "support/dem_scenes.hpp"
 
 namespace xfdem::testing {
 namespace {
@@ -54,17 +55,6 @@ DemDesc<D> incline(double theta, double mu, double rolling, double zeta,
 template <int D>
 double downhill(const DemState<D>& s, double theta) {
   return -std::cos(theta) * s.v[0][0] - std::sin(theta) * s.v[1][0];
-}
-
-/// The spin about z (2D: the only one; 3D: component 2).
-template <int D>
-double spin_z(const DemState<D>& s) {
-  return s.w[D == 2 ? 0 : 2][0];
-}
-
-template <int D>
-double inertia_factor() {
-  return D == 2 ? 0.5 : 0.4;  // I / (m r²)
 }
 
 struct Slope {
@@ -454,6 +444,14 @@ TEST(FrictionInputs, RefusedNamingTheKey) {
   d = good;
   d.integrator = DemIntegrator::abm4_events;
   refused(d, "integrator: abm4_events cannot carry friction, rolling friction or the hertz law");
+  {  // the reason and the way out, whole (the message has a fixed buffer)
+    DemWorld<2> world;
+    const std::string message = world.build(d).message;
+    EXPECT_NE(message.find("first-order history with stick-slip switches it does not locate (use abm4, rk4, verlet or "
+                           "symplectic_euler)"),
+              std::string::npos)
+        << message;
+  }
   DemDesc<1> line;
   line.dt = 1e-5;
   line.friction = 0.3;

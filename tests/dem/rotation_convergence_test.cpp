@@ -1,7 +1,7 @@
 // Observed order of each integrator that carries rotation (verlet,
 // symplectic_euler, rk4, abm4), against closed forms the tests compute:
 //  - sliding throughout: the friction force is μ F_n(t), a smooth function of
-//    the state, and every integrator keeps its order (1, 2, 4, 4);
+//    the state, and every integrator keeps its order (2, 1, 4, 4);
 //  - sticking throughout: the tangential spring ξ is advanced once per step,
 //    ξ_n+1 = ξ_n + h v_t. With Verlet's kicked (midpoint) velocity and
 //    symplectic Euler's new one this is the same update as the position's, so
@@ -11,10 +11,12 @@
 // acceleration tells no order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include "support/dem_scenes.hpp"
 #include "xfdem/dem.hpp"
 
 namespace xfdem::testing {
@@ -23,20 +25,6 @@ namespace {
 constexpr double kG = 9.81;
 constexpr DemIntegrator kRotating[] = {DemIntegrator::verlet, DemIntegrator::symplectic_euler, DemIntegrator::rk4,
                                        DemIntegrator::abm4};
-
-/// Least-squares slope of log(error) against log(dt).
-double observed_order(const std::vector<double>& dts, const std::vector<double>& errors) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(dts.size());
-  for (std::size_t k = 0; k < dts.size(); ++k) {
-    const double x = std::log(dts[k]), y = std::log(errors[k]);
-    sx += x;
-    sy += y;
-    sxx += x * x;
-    sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 // A disk (2D) or sphere (3D), m = 1, r = 0.05, k = 1e6, undamped, on a floor
 // (normal +y), pressed in by its static overlap δs = m g/k plus `lift`.
@@ -58,16 +46,6 @@ DemDesc<D> on_floor(DemIntegrator integrator, double dt, double mu, double lift,
   floor.normal[1] = 1;
   d.planes.push_back(floor);
   return d;
-}
-
-template <int D>
-double spin_z(const DemState<D>& s) {
-  return s.w[D == 2 ? 0 : 2][0];
-}
-
-template <int D>
-double inertia_factor() {
-  return D == 2 ? 0.5 : 0.4;  // I / (m r²)
 }
 
 struct Exact {

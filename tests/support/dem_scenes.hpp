@@ -3,12 +3,45 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "support/drop_closed_form.hpp"
 #include "xfdem/dem.hpp"
 
 namespace xfdem::testing {
+
+/// Least-squares slope of y against x.
+inline double least_squares_slope(const std::vector<std::pair<double, double>>& points) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(points.size());
+  for (const auto& [x, y] : points) {
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+/// Observed order: the least-squares slope of log(error) against log(dt).
+inline double observed_order(const std::vector<double>& dts, const std::vector<double>& errors) {
+  std::vector<std::pair<double, double>> points;
+  for (std::size_t k = 0; k < dts.size(); ++k) points.emplace_back(std::log(dts[k]), std::log(errors[k]));
+  return least_squares_slope(points);
+}
+
+/// The spin about z of particle 0 (2D: the only component; 3D: component 2).
+template <int D>
+double spin_z(const DemState<D>& s) {
+  return s.w[D == 2 ? 0 : 2][0];
+}
+
+/// I / (m r²) of a disk (2D) or a sphere (3D).
+template <int D>
+constexpr double inertia_factor() {
+  return D == 2 ? 0.5 : 0.4;
+}
 
 /// The V1 drop test as a 1D scene (plane at 0, normal up).
 inline DemDesc<1> drop_scene(const DropParameters& p, DemIntegrator integrator, double dt) {
