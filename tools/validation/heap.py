@@ -4,7 +4,7 @@ form against the friction μ and the rolling friction μ_r (docs/dem.md, "The
 heap and the column collapse").
 
     heap.py scene [--out scenes/granular/heap_2d.json] [--particles 600] [--name heap_2d]
-    heap.py scene --out scenes/granular/heap_2d_small.json --particles 150 --name heap_2d_small
+    heap.py scene --out scenes/granular/heap_2d_small.json --particles 150 --name heap_2d_small --end 1.5
     heap.py run --cli build/release/tools/xfdem [--scene scenes/granular/heap_2d.json]
                 [--figure docs/figures/heap_repose.png] [--work DIR]
 
@@ -42,7 +42,7 @@ END = 3.0  # s: the heap has stopped (but for disks rolling away on the floor wi
 SIDE = 40.0  # deg, the sides of the triangle the disks start in
 
 
-def make_scene(particles, name, seed=15):
+def make_scene(particles, name, end=END, seed=15):
     """Disks placed at random, without overlap, inside a triangle with 60° sides
     standing on the floor: a heap built steeper than any of the sweep's can stand."""
     rng = random.Random(seed)
@@ -72,7 +72,7 @@ def make_scene(particles, name, seed=15):
         "name": name,
         "dimension": 2,
         "gravity": [0.0, -9.81],
-        "time": {"end": END, "dt": DT},
+        "time": {"end": end, "dt": DT},
         "dem": {
             "integrator": "verlet",
             "contact": {"law": "linear", "damping_ratio": 0.3, "friction": 0.5,
@@ -80,7 +80,7 @@ def make_scene(particles, name, seed=15):
             "particles": items,
             "planes": [{"name": "floor", "point": [0.0, 0.0], "normal": [0.0, 1.0]}],
         },
-        "output": {"every": END, "probes": [{"name": "E_kinetic", "quantity": "energy", "of": "kinetic"}]},
+        "output": {"every": end, "probes": [{"name": "E_kinetic", "quantity": "energy", "of": "kinetic"}]},
     }
 
 
@@ -222,6 +222,7 @@ def main():
     s.add_argument("--out", default="scenes/granular/heap_2d.json")
     s.add_argument("--particles", type=int, default=600)
     s.add_argument("--name", default="heap_2d")
+    s.add_argument("--end", type=float, default=END)
     r = sub.add_parser("run")
     r.add_argument("--cli", required=True)
     r.add_argument("--scene", default="scenes/granular/heap_2d.json")
@@ -230,7 +231,7 @@ def main():
     args = parser.parse_args()
     if args.command == "scene":
         with open(args.out, "w") as f:
-            json.dump(make_scene(args.particles, args.name), f, indent=1)
+            json.dump(make_scene(args.particles, args.name, args.end), f, indent=1)
             f.write("\n")
         print(f"wrote {args.out}")
     else:
