@@ -23,34 +23,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kG = 9.81;
 
-/// One particle (m = 1, r = 0.05, k = 1e6) resting on a plane through the
-/// origin tilted by theta (normal (−sin θ, cos θ)), pressed in by its static
-/// overlap m g cos θ / k so that no normal oscillation starts.
-template <int D>
-DemDesc<D> incline(double theta, double mu, double rolling, double zeta,
-                   DemIntegrator integrator = DemIntegrator::verlet) {
-  DemDesc<D> d;
-  d.dt = 1e-5;
-  d.damping_ratio = zeta;
-  d.friction = mu;
-  d.rolling_friction = rolling;
-  d.integrator = integrator;
-  d.gravity[1] = -kG;
-  ParticleDesc<D> p;
-  p.mass = 1;
-  p.radius = 0.05;
-  p.stiffness = 1e6;
-  const double height = p.radius - p.mass * kG * std::cos(theta) / p.stiffness;
-  p.position[0] = -std::sin(theta) * height;
-  p.position[1] = std::cos(theta) * height;
-  d.particles.push_back(p);
-  PlaneDesc<D> plane;
-  plane.normal[0] = -std::sin(theta);
-  plane.normal[1] = std::cos(theta);
-  d.planes.push_back(plane);
-  return d;
-}
-
 /// Velocity down the slope, d = (−cos θ, −sin θ).
 template <int D>
 double downhill(const DemState<D>& s, double theta) {

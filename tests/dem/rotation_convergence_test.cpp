@@ -27,24 +27,14 @@ constexpr DemIntegrator kRotating[] = {DemIntegrator::verlet, DemIntegrator::sym
                                        DemIntegrator::abm4};
 
 // A disk (2D) or sphere (3D), m = 1, r = 0.05, k = 1e6, undamped, on a floor
-// (normal +y), pressed in by its static overlap δs = m g/k plus `lift`.
+// (normal +y, the incline of friction_test.cpp at θ = 0), pressed in by its
+// static overlap δs = m g/k plus `lift`, moving at vx.
 template <int D>
 DemDesc<D> on_floor(DemIntegrator integrator, double dt, double mu, double lift, double vx) {
-  DemDesc<D> d;
+  DemDesc<D> d = incline<D>(0.0, mu, 0.0, 0.0, integrator);
   d.dt = dt;
-  d.friction = mu;
-  d.integrator = integrator;
-  d.gravity[1] = -kG;
-  ParticleDesc<D> p;
-  p.mass = 1;
-  p.radius = 0.05;
-  p.stiffness = 1e6;
-  p.position[1] = p.radius - p.mass * kG / p.stiffness - lift;
-  p.velocity[0] = vx;
-  d.particles.push_back(p);
-  PlaneDesc<D> floor;
-  floor.normal[1] = 1;
-  d.planes.push_back(floor);
+  d.particles[0].position[1] -= lift;
+  d.particles[0].velocity[0] = vx;
   return d;
 }
 

@@ -11,6 +11,36 @@
 
 namespace xfdem::testing {
 
+/// One particle (m = 1, r = 0.05, k = 1e6) resting on a plane through the
+/// origin tilted by theta (normal (−sin θ, cos θ)), pressed in by its static
+/// overlap m g cos θ / k (g = 9.81) so that no normal oscillation starts.
+/// Verlet, dt = 1e-5 s.
+template <int D>
+inline DemDesc<D> incline(double theta, double mu, double rolling, double zeta,
+                          DemIntegrator integrator = DemIntegrator::verlet) {
+  const double g = 9.81;
+  DemDesc<D> d;
+  d.dt = 1e-5;
+  d.damping_ratio = zeta;
+  d.friction = mu;
+  d.rolling_friction = rolling;
+  d.integrator = integrator;
+  d.gravity[1] = -g;
+  ParticleDesc<D> p;
+  p.mass = 1;
+  p.radius = 0.05;
+  p.stiffness = 1e6;
+  const double height = p.radius - p.mass * g * std::cos(theta) / p.stiffness;
+  p.position[0] = -std::sin(theta) * height;
+  p.position[1] = std::cos(theta) * height;
+  d.particles.push_back(p);
+  PlaneDesc<D> plane;
+  plane.normal[0] = -std::sin(theta);
+  plane.normal[1] = std::cos(theta);
+  d.planes.push_back(plane);
+  return d;
+}
+
 /// Least-squares slope of y against x.
 inline double least_squares_slope(const std::vector<std::pair<double, double>>& points) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
