@@ -90,7 +90,7 @@ TEST(FrictionCli, AnIntegratorWithoutRotationIsRefusedNamingTheKey) {
   std::ofstream(scene) << incline_scene("abm4_events");
   const auto r = run("run " + scene.string() + " --csv " + csv.string());
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("scene key 'dem.integrator': abm4_events does not carry rotation and friction yet"), std::string::npos)
+  EXPECT_NE(r.err.find("scene key 'dem.integrator': abm4_events cannot carry friction, rolling friction or the hertz law"), std::string::npos)
       << r.err;
 }
 

@@ -265,6 +265,38 @@ TEST(VtkCli, ParticleFilesHoldThePositionsVelocitiesAndRadii) {
   EXPECT_LT(csv.rows[3][csv.column("avx")], 0.0);
 }
 
+// With friction the disks spin: the files hold each one's angular velocity,
+// in 2D about z, as the scene's angular_velocity probe reads it.
+TEST(VtkCli, ParticleFilesHoldTheSpinOfRotatingDisks) {
+  const fs::path scene = scratch() / "spin.json", dir = scratch() / "spin", csv_path = scratch() / "spin.csv";
+  std::string text = kDisks;
+  const std::string law = "\"damping_ratio\": 0.1 }";
+  text.replace(text.find(law), law.size(), "\"damping_ratio\": 0.1, \"friction\": 0.4 }");
+  const std::string probe = "{ \"name\": \"ax\"";
+  text.replace(text.find(probe), probe.size(),
+               "{ \"name\": \"aw\", \"particle\": \"a\", \"quantity\": \"angular_velocity\" },\n      " +
+                   probe);
+  const std::string integrator = "\"abm4\"";
+  text.replace(text.find(integrator), integrator.size(), "\"verlet\"");
+  std::ofstream(scene) << text;
+  fs::remove_all(dir);
+  const Result r = run("run " + scene.string() + " --vtk " + dir.string() + " --csv " + csv_path.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Csv csv = read_csv(csv_path);
+  const auto sets = collection(dir / "disks_2d.pvd");
+  ASSERT_EQ(sets.size(), csv.rows.size());
+  bool spun = false;
+  for (std::size_t k = 0; k < sets.size(); ++k) {
+    const auto w = array(slurp(dir / sets[k].second), "Name=\"angular_velocity\"");
+    ASSERT_EQ(w.size(), 6u);
+    EXPECT_EQ(w[0], 0.0);
+    EXPECT_EQ(w[1], 0.0);
+    EXPECT_EQ(w[2], csv.rows[k][csv.column("aw")]);
+    spun = spun || w[2] != 0.0;
+  }
+  EXPECT_TRUE(spun);  // the floor's friction turned disk a
+}
+
 struct VtkBadInput {
   const char* args;      ///< after the scene
   const char* message;   ///< the whole line on stderr, %s: the scratch directory

@@ -23,20 +23,6 @@ int formal_order(DemIntegrator i) {
   return 0;
 }
 
-/// Least-squares slope of log(error) against log(dt).
-double observed_order(const std::vector<double>& dts, const std::vector<double>& errors) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(dts.size());
-  for (std::size_t k = 0; k < dts.size(); ++k) {
-    const double x = std::log(dts[k]), y = std::log(errors[k]);
-    sx += x;
-    sy += y;
-    sxx += x * x;
-    sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 // Smooth: a sphere resting on the plane under gravity, displaced by A from its
 // static overlap δs = mg/k with A < δs, undamped: the contact never opens and
 // y(t) = r − δs − A cos(ωt + φ) exactly. A generic phase φ and end time keep

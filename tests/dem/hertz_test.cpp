@@ -505,7 +505,7 @@ TEST(HertzInputs, RefusedNamingTheKey) {
   refused(d, "tangential_stiffness_ratio");
   d = good;
   d.integrator = DemIntegrator::abm4_events;
-  refused(d, "integrator");
+  refused(d, "integrator: abm4_events cannot carry friction, rolling friction or the hertz law");
   // The linear laws take none of the hertz keys.
   DemDesc<2> linear = good;
   linear.law = ContactLaw::linear;

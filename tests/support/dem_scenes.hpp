@@ -3,12 +3,75 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "support/drop_closed_form.hpp"
 #include "xfdem/dem.hpp"
 
 namespace xfdem::testing {
+
+/// One particle (m = 1, r = 0.05, k = 1e6) resting on a plane through the
+/// origin tilted by theta (normal (−sin θ, cos θ)), pressed in by its static
+/// overlap m g cos θ / k (g = 9.81) so that no normal oscillation starts.
+/// Verlet, dt = 1e-5 s.
+template <int D>
+inline DemDesc<D> incline(double theta, double mu, double rolling, double zeta,
+                          DemIntegrator integrator = DemIntegrator::verlet) {
+  const double g = 9.81;
+  DemDesc<D> d;
+  d.dt = 1e-5;
+  d.damping_ratio = zeta;
+  d.friction = mu;
+  d.rolling_friction = rolling;
+  d.integrator = integrator;
+  d.gravity[1] = -g;
+  ParticleDesc<D> p;
+  p.mass = 1;
+  p.radius = 0.05;
+  p.stiffness = 1e6;
+  const double height = p.radius - p.mass * g * std::cos(theta) / p.stiffness;
+  p.position[0] = -std::sin(theta) * height;
+  p.position[1] = std::cos(theta) * height;
+  d.particles.push_back(p);
+  PlaneDesc<D> plane;
+  plane.normal[0] = -std::sin(theta);
+  plane.normal[1] = std::cos(theta);
+  d.planes.push_back(plane);
+  return d;
+}
+
+/// Least-squares slope of y against x.
+inline double least_squares_slope(const std::vector<std::pair<double, double>>& points) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(points.size());
+  for (const auto& [x, y] : points) {
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+/// Observed order: the least-squares slope of log(error) against log(dt).
+inline double observed_order(const std::vector<double>& dts, const std::vector<double>& errors) {
+  std::vector<std::pair<double, double>> points;
+  for (std::size_t k = 0; k < dts.size(); ++k) points.emplace_back(std::log(dts[k]), std::log(errors[k]));
+  return least_squares_slope(points);
+}
+
+/// The spin about z of particle 0 (2D: the only component; 3D: component 2).
+template <int D>
+double spin_z(const DemState<D>& s) {
+  return s.w[D == 2 ? 0 : 2][0];
+}
+
+/// I / (m r²) of a disk (2D) or a sphere (3D).
+template <int D>
+constexpr double inertia_factor() {
+  return D == 2 ? 0.5 : 0.4;
+}
 
 /// The V1 drop test as a 1D scene (plane at 0, normal up).
 inline DemDesc<1> drop_scene(const DropParameters& p, DemIntegrator integrator, double dt) {

@@ -295,9 +295,15 @@ void VtkSeries::particles(const DemModel<D>& model, const DemState<D>& state) {
   out += "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n";
   float_array(out, "radius", 1, n, [&](std::size_t i, int) { return model.radius[i]; });
   float_array(out, "velocity", 3, n, [&](std::size_t i, int c) { return c < D ? state.v[static_cast<std::size_t>(c)][i] : 0.0; });
-  // The kernel's contacts are frictionless (normal forces only): particles do
-  // not spin, and their angular velocity is zero.
-  float_array(out, "angular_velocity", 3, n, [](std::size_t, int) { return 0.0; });
+  // A frictionless model does not rotate (no spin arrays): its angular velocity is zero.
+  float_array(out, "angular_velocity", 3, n, [&](std::size_t i, int c) {
+    if constexpr (D == 1) {
+      return 0.0;
+    } else {
+      const int k = D == 2 ? c - 2 : c;  // 2D: the spin is about z
+      return k >= 0 && !state.w[static_cast<std::size_t>(k)].empty() ? state.w[static_cast<std::size_t>(k)][i] : 0.0;
+    }
+  });
   out += "      </PointData>\n      <Points>\n";
   float_array(out, nullptr, 3, n, [&](std::size_t i, int c) { return c < D ? state.x[static_cast<std::size_t>(c)][i] : 0.0; });
   out += "      </Points>\n";

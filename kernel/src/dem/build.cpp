@@ -558,10 +558,18 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       return BuildResult::failure(Code::invalid_argument,
                                   "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",
                                   desc.friction > 0 ? "friction" : "rolling_friction");
+    // abm4_events exists for its fourth order across contact events; the
+    // tangential spring is advanced once per step (first order, even while
+    // sticking), a stick-slip switch is no event of the contact set, and the
+    // frozen path's continuation of a contact past its end is the linear law's
+    // (hertz's δ^{3/2} has none): the located step would be first order like
+    // abm4, at many times its cost (docs/dem.md, "Rotation and friction").
     if (desc.integrator == DemIntegrator::abm4_events)
       return BuildResult::failure(Code::invalid_argument,
-                                  "integrator: %s does not carry rotation and friction yet (abm4, verlet, "
-                                  "symplectic_euler and rk4 do)",
+                                  "integrator: %s cannot carry friction, rolling friction or the hertz law: its located "
+                                  "events keep fourth order only for forces of (x, v) alone that continue past a "
+                                  "contact's end; a tangential spring is first-order history with stick-slip switches "
+                                  "it does not locate (use abm4, rk4, verlet or symplectic_euler)",
                                   integrator_name(desc.integrator));
   }
   if (desc.split_from < 0)
