@@ -8,6 +8,7 @@
 #include "xfdem/coupled.hpp"
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
+#include "scene/number_text.hpp"
 #include "scene/vtk.hpp"
 
 #include <memory>
@@ -36,12 +37,11 @@ std::string dem_stages(const DemModel<D>& m, const DemState<D>& s, const DemProf
 }
 
 void write_value(std::ostream& out, double value) {
-  // The text of printf's "%.17g" (the standard defines to_chars by it), which
-  // reads back bit-exact, without printf's locale and multi-precision work:
-  // a few times faster, which a long run's CSV notices.
-  char text[40];
-  const std::to_chars_result r = std::to_chars(text, text + sizeof(text), value, std::chars_format::general, 17);
-  out.write(text, r.ptr - text);
+  // The text of printf's "%.17g", which reads back bit-exact, without printf's
+  // locale and multi-precision work (scene/number_text.hpp): a long run's CSV
+  // notices.
+  char text[kG17Chars];
+  out.write(text, write_g17(text, value) - text);
 }
 
 /// The particles of a scene without a continuum.
