@@ -8,6 +8,7 @@
 #include "xfdem/coupled.hpp"
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
+#include "scene/number_text.hpp"
 #include "scene/vtk.hpp"
 
 #include <memory>
@@ -35,13 +36,12 @@ std::string dem_stages(const DemModel<D>& m, const DemState<D>& s, const DemProf
   return text;
 }
 
-void write_value(std::ostream& out, double value) {
-  // The text of printf's "%.17g" (the standard defines to_chars by it), which
-  // reads back bit-exact, without printf's locale and multi-precision work:
-  // a few times faster, which a long run's CSV notices.
-  char text[40];
-  const std::to_chars_result r = std::to_chars(text, text + sizeof(text), value, std::chars_format::general, 17);
-  out.write(text, r.ptr - text);
+/// Appends printf's "%.17g" of value, which reads back bit-exact, without
+/// printf's locale and multi-precision work (scene/number_text.hpp): a long
+/// run's CSV notices.
+void append_value(std::string& line, double value) {
+  char text[kG17Chars];
+  line.append(text, write_g17(text, value));
 }
 
 /// The particles of a scene without a continuum.
@@ -218,13 +218,19 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv, Vtk
   csv << "t";
   for (const auto& p : scene.probes) csv << ',' << p.name;
   csv << '\n';
+  // A row is put together in `line` and written at once (a stream's operator<<
+  // per separator costs more than the number's text).
+  std::string line;
+  line.reserve((scene.probes.size() + 1) * (kG17Chars + 1));
   auto row = [&](std::int64_t step) {
-    write_value(csv, static_cast<double>(step) * scene.dt);
+    line.clear();
+    append_value(line, static_cast<double>(step) * scene.dt);
     for (const auto& p : scene.probes) {
-      csv << ',';
-      write_value(csv, system.probe(p));
+      line.push_back(',');
+      append_value(line, system.probe(p));
     }
-    csv << '\n';
+    line.push_back('\n');
+    csv.write(line.data(), static_cast<std::streamsize>(line.size()));
   };
   std::int64_t rows = 0;
   const auto checked_row = [&](std::int64_t step) {

@@ -37,6 +37,14 @@ StepStatus build_pair_list(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
 
 // network_omega2 (the contact network's stable-step bound): dem/network.hpp.
 
+/// The number of particles a step loops over: N > 0 when the step was
+/// instantiated for that count (the small-system step, whose loops over one
+/// or two particles the compiler then unrolls), else the model's (N = 0).
+template <int N, int D>
+constexpr std::int32_t particle_count(const DemModel<D>& m) {
+  return N > 0 ? N : m.n;
+}
+
 /// dx = x_j − x_i per axis; returns |dx|² (the one order of operations every
 /// path uses, so that they round alike).
 template <int D>
@@ -281,12 +289,13 @@ inline void input_accelerations(const DemModel<D>& m, const DemState<D>& s, Colu
 /// Plain-mode evaluation of a model in one part: inputs, planes (totals into
 /// w.plane_force), pairs (the grid's list rebuilt first if it is stale), in
 /// this order. The general kernel below runs it through its pointer; the
-/// small-system step (integrators.cpp) inlines it.
-template <int D, bool Gravity, bool Damped, bool NonTensile>
+/// small-system step (integrators.cpp) inlines it, with its particle count N
+/// (particle_count) known at compile time.
+template <int D, bool Gravity, bool Damped, bool NonTensile, int N = 0>
 [[gnu::always_inline]] inline StepStatus one_part_accelerations(const DemModel<D>& m, DemState<D>& s,
                                                                 DemWorkspace<D>& w, ConstColumns<D> x,
                                                                 ConstColumns<D> v, Columns<D> a) {
-  const std::int32_t n = m.n;
+  const std::int32_t n = particle_count<N>(m);
   input_accelerations<D, Gravity>(m, s, a, 0, n);
   std::uint64_t active = plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
   StepStatus status = StepStatus::ok;

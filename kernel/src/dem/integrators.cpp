@@ -89,6 +89,7 @@ struct GeneralRun {
   DemState<D>& s;
   DemWorkspace<D>& w;
   AccelerationKernel<D> kernel;
+  static constexpr int kCount = 0;  ///< particle_count: the model's
 
   template <class F>
   void over(F&& f) const {
@@ -117,21 +118,24 @@ struct GeneralRun {
 /// features, and the new x, v and acceleration written straight into the
 /// state and the next history slot (every update is element by element, so
 /// in place reads what it would read from a copy). Nothing there can hit a
-/// capacity, so the step is never refused.
-template <int D, bool Gravity, bool Damped, bool NonTensile>
+/// capacity, so the step is never refused. N > 0: the model has N particles,
+/// and every loop over them has that trip count at compile time (unrolled);
+/// N = 0: the model's count (dem_detail::particle_count).
+template <int D, bool Gravity, bool Damped, bool NonTensile, int N>
 struct SmallRun {
   const DemModel<D>& m;
   DemState<D>& s;
   DemWorkspace<D>& w;
+  static constexpr int kCount = N;
 
   template <class F>
   void over(F&& f) const {
-    f(std::int32_t{0}, m.n);
+    f(std::int32_t{0}, dem_detail::particle_count<N>(m));
   }
   // One function with the force code inlined (flatten), called from each stage.
   [[gnu::flatten, gnu::noinline]] StepStatus eval(double t, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) const {
     w.eval_time = t;
-    return dem_detail::one_part_accelerations<D, Gravity, Damped, NonTensile>(m, s, w, x, v, a);
+    return dem_detail::one_part_accelerations<D, Gravity, Damped, NonTensile, N>(m, s, w, x, v, a);
   }
   Columns<D> x1() const { return view<D>(s.x); }
   Columns<D> v1() const { return view<D>(s.v); }
@@ -658,7 +662,7 @@ StepStatus step_with(const Run& run) {
   if (m.features.broad_phase != BroadPhase::grid) {
     ConstColumns<D> x;
     for (int d = 0; d < D; ++d) x[d] = s.x[d].data();
-    s.network_omega2 = dem_detail::network_omega2<D>(m, s, w, x);
+    s.network_omega2 = dem_detail::network_omega2<D, false, Run::kCount>(m, s, w, x);
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
@@ -671,10 +675,24 @@ StepStatus step_with(const Run& run) {
   return status;
 }
 
-/// The small-system step for a feature set (DemModel::small_step).
-template <int D, bool Gravity, bool Damped, bool NonTensile>
+/// The small-system step for a feature set and particle count (DemModel::small_step).
+template <int D, bool Gravity, bool Damped, bool NonTensile, int N>
 StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile>{m, s, w});
+  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile, N>{m, s, w});
+}
+
+template <int D, int N>
+StepFunction<D> small_step_for(const DemFeatures& f) {
+  switch ((f.gravity ? 4 : 0) | (f.damped ? 2 : 0) | (f.nontensile ? 1 : 0)) {
+    case 0: return &small_step<D, false, false, false, N>;
+    case 1: return &small_step<D, false, false, true, N>;
+    case 2: return &small_step<D, false, true, false, N>;
+    case 3: return &small_step<D, false, true, true, N>;
+    case 4: return &small_step<D, true, false, false, N>;
+    case 5: return &small_step<D, true, false, true, N>;
+    case 6: return &small_step<D, true, true, false, N>;
+    default: return &small_step<D, true, true, true, N>;
+  }
 }
 
 }  // namespace
@@ -686,17 +704,11 @@ StepFunction<D> select_small_step(const DemModel<D>& m) {
   if (m.n > kSmallSystem || m.parts != 1 || m.features.broad_phase == BroadPhase::grid ||
       m.integrator == DemIntegrator::abm4_events)
     return nullptr;
-  const DemFeatures& f = m.features;
-  switch ((f.gravity ? 4 : 0) | (f.damped ? 2 : 0) | (f.nontensile ? 1 : 0)) {
-    case 0: return &small_step<D, false, false, false>;
-    case 1: return &small_step<D, false, false, true>;
-    case 2: return &small_step<D, false, true, false>;
-    case 3: return &small_step<D, false, true, true>;
-    case 4: return &small_step<D, true, false, false>;
-    case 5: return &small_step<D, true, false, true>;
-    case 6: return &small_step<D, true, true, false>;
-    default: return &small_step<D, true, true, true>;
-  }
+  // One and two particles (V1, Cases I and II) get their count compiled in;
+  // 3..kSmallSystem share the instantiation that reads it.
+  if (m.n == 1) return small_step_for<D, 1>(m.features);
+  if (m.n == 2) return small_step_for<D, 2>(m.features);
+  return small_step_for<D, 0>(m.features);
 }
 template StepFunction<1> select_small_step<1>(const DemModel<1>&);
 template StepFunction<2> select_small_step<2>(const DemModel<2>&);

@@ -40,11 +40,11 @@ void add_outer(double* t, double weight, const double (&n)[D]) {
 /// Gershgorin bound on the squared highest frequency of the contacts touching
 /// at positions x: listed pairs that overlap and planes a sphere reaches.
 /// Hertz: K is the tangent stiffness S_n = 2 E* √(R* δ) at the contact's
-/// current overlap (the pair list caches E*).
-template <int D, bool Hertz = false>
+/// current overlap (the pair list caches E*). N: particle_count.
+template <int D, bool Hertz = false, int N = 0>
 [[gnu::always_inline]] inline double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   constexpr int kEntries = D * (D + 1) / 2;
-  const std::int32_t n = m.n;
+  const std::int32_t n = particle_count<N>(m);
   double* t = w.network_row.data();
   for (std::int64_t k = 0; k < std::int64_t{n} * kEntries; ++k) t[k] = 0.0;
   for (std::int32_t c = 0; c < s.pair_count; ++c) {
