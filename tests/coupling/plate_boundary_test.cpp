@@ -40,6 +40,16 @@ PlateDiscontinuity vertical_crack(double x) {
   return q;
 }
 
+PlateDiscontinuity circular_void(double x, double y, double r) {
+  PlateDiscontinuity q;
+  q.name = "hole";
+  q.kind = PlateDiscontinuity::Kind::hole;
+  q.shape = PlateDiscontinuity::Shape::circle;
+  q.centre[0] = x, q.centre[1] = y;
+  q.radius = r;
+  return q;
+}
+
 struct Built {
   PlateModel model;
   PlateState state;
@@ -86,6 +96,39 @@ TEST(PlateBoundary, OuterEdgesAreOneClosedChainWithOutwardNormals) {
   EXPECT_DOUBLE_EQ(0.5 * area2, 2.0);  // counter-clockwise: material on the left
 }
 
+TEST(PlateBoundary, AVoidIsAClosedClockwiseLoopOnItsCircle) {
+  // A void well inside: one loop of its own (material on the left walks it
+  // clockwise) whose vertices lie on the cut cells' piecewise-linear level
+  // set, within O(h²/r) of the circle.
+  PlateDesc d = free_plate(16, 8);
+  const double xc = 1.03, yc = 0.49, r = 0.27;
+  d.discontinuities.push_back(circular_void(xc, yc, r));
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  double area2 = 0, off = 0;
+  int loop = 0;
+  for (std::size_t s = 48; s < pb.segments.size(); ++s) {  // after the 2 (16 + 8) outer edges
+    const PlateBoundarySegment& seg = pb.segments[s];
+    const double* a = pb.vertices[static_cast<std::size_t>(seg.a)].x;
+    const double* c = pb.vertices[static_cast<std::size_t>(seg.b)].x;
+    area2 += a[0] * c[1] - c[0] * a[1];
+    off = std::max(off, std::fabs(std::hypot(a[0] - xc, a[1] - yc) - r));
+    ++loop;
+  }
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    EXPECT_GE(v.prev, 0);
+    EXPECT_GE(v.next, 0);
+  }
+  const double h = 0.125;
+  std::printf("void loop: %d segments, area %.5f (circle %.5f), vertices within %.3g m of the circle\n", loop,
+              -0.5 * area2, M_PI * r * r, off);
+  EXPECT_EQ(pb.vertices.size(), pb.segments.size());  // every chain closed
+  EXPECT_LT(0.5 * area2, 0.0);                        // clockwise
+  EXPECT_LT(off, h * h / r);
+  EXPECT_NEAR(-0.5 * area2, M_PI * r * r, 0.5 * M_PI * h * h);  // perimeter × h²/(4r)
+}
+
 TEST(PlateBoundary, ACrackBreaksTheChainAtItsMouthsWithOneVertexPerFace) {
   PlateDesc d = free_plate(4, 2);
   d.discontinuities.push_back(vertical_crack(1.05));
@@ -126,8 +169,9 @@ TEST(PlateBoundary, ACrackBreaksTheChainAtItsMouthsWithOneVertexPerFace) {
 }
 
 TEST(PlateBoundary, ClosestPointMatchesTheDistanceToEverySegment) {
-  PlateDesc d = free_plate(5, 3);
-  d.discontinuities.push_back(vertical_crack(1.05));
+  PlateDesc d = free_plate(10, 6);
+  d.discontinuities.push_back(vertical_crack(0.55));
+  d.discontinuities.push_back(circular_void(1.32, 0.52, 0.3));
   Built b;
   const double radius = 0.07;
   build(d, radius, b);
@@ -139,12 +183,16 @@ TEST(PlateBoundary, ClosestPointMatchesTheDistanceToEverySegment) {
   }
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> ux(-0.1, 2.1), uy(-0.1, 1.1);
-  int touching = 0;
+  int touching = 0, voids = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     const double c[2] = {ux(rng), uy(rng)};
-    // Outside the plate only (inside, contact is not defined by the closest
-    // point): beyond the bent boundary (it moves by at most 0.004 m).
-    if (c[0] > -0.01 && c[0] < 2.01 && c[1] > -0.01 && c[1] < 1.01) continue;
+    // Outside the material only (inside, contact is not defined by the
+    // closest point): beyond the bent outer boundary (it moves by at most
+    // 0.004 m), or well inside the void (its cut-cell boundary is within
+    // about h²/(8r) = 0.01 m of the circle).
+    const bool in_void = std::hypot(c[0] - 1.32, c[1] - 0.52) < 0.3 - 0.03;
+    if (!in_void && c[0] > -0.01 && c[0] < 2.01 && c[1] > -0.01 && c[1] < 1.01) continue;
+    voids += in_void ? 1 : 0;
     double nearest = INFINITY;
     for (const PlateBoundarySegment& s : b.boundary.segments)
       nearest = std::min(nearest, segment_distance(c, &b.positions[2 * static_cast<std::size_t>(s.a)],
@@ -162,8 +210,9 @@ TEST(PlateBoundary, ClosestPointMatchesTheDistanceToEverySegment) {
     EXPECT_NEAR(contacts[0].overlap, radius - nearest, 1e-14);
     EXPECT_NEAR(std::hypot(c[0] - contacts[0].point[0], c[1] - contacts[0].point[1]), nearest, 1e-14);
   }
-  std::printf("contacts checked against the brute-force distance: %d\n", touching);
+  std::printf("contacts checked against the brute-force distance: %d (centres in the void: %d)\n", touching, voids);
   EXPECT_GT(touching, 500);
+  EXPECT_GT(voids, 500);
 }
 
 TEST(PlateBoundary, OneContactWithContinuousOverlapAcrossJoints) {

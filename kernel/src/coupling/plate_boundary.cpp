@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "xfdem/xfem/level_set.hpp"
 
@@ -21,9 +23,28 @@ constexpr double kEta[4] = {-1.0, -1.0, 1.0, 1.0};
 /// The cell edge from local corner `from` to corner `to` of cell (i, j), walked
 /// with the material on its left, appended to the boundary: one segment, or
 /// two where a discontinuity crosses it.
+/// Where the level set, linear from p0 at (xi0, eta0) to p1 at (xi1, eta1),
+/// is zero: computed from the end at the smaller node, so that the two cells
+/// that share a cell edge find the same point.
+void crossing(double p0, double p1, double xi0, double eta0, double xi1, double eta1, int n0, int n1, double& xi,
+              double& eta) {
+  if (n1 < n0) {
+    std::swap(p0, p1), std::swap(xi0, xi1), std::swap(eta0, eta1);
+  }
+  const double t = p0 / (p0 - p1);
+  xi = xi0 + t * (xi1 - xi0);
+  eta = eta0 + t * (eta1 - eta0);
+}
+
+/// A crossing of a void's boundary with an edge: a cell edge (its two nodes,
+/// the smaller first) or a sub-triangle's inner edge (cell, corner): the
+/// vertex every segment through it shares.
+using EdgeKey = std::tuple<int, int, int>;  // (0, node, node) or (1, cell, corner)
+
 struct Walker {
   const PlateModel& m;
   PlateBoundary& out;
+  std::map<EdgeKey, int>& crossings;
   int last = -1;   ///< the open chain's last vertex (−1: broken)
   int first = -1;  ///< the first vertex of the walk, if the chain never broke before it
   bool broke = false;
@@ -82,13 +103,20 @@ struct Walker {
       if (!has_material(s0)) return brk();
       return add_segment(i, j, xi0, eta0, xi1, eta1, s0);
     }
-    const double t = p0 / (p0 - p1);
-    const double xim = xi0 + t * (xi1 - xi0), etam = eta0 + t * (eta1 - eta0);
-    if (has_material(s0)) add_segment(i, j, xi0, eta0, xim, etam, s0);
+    double xim = 0, etam = 0;
+    crossing(p0, p1, xi0, eta0, xi1, eta1, node(from), node(to), xim, etam);
+    const EdgeKey key{0, std::min(node(from), node(to)), std::max(node(from), node(to))};
+    if (has_material(s0)) {
+      add_segment(i, j, xi0, eta0, xim, etam, s0);
+      if (kind == PlateDiscontinuity::Kind::hole) crossings[key] = last;  // the void's boundary goes on from here
+    }
     // A crack opens at the crossing: each face ends in a vertex of its own
     // side. An inclusion's field is continuous there: the chain goes on.
     if (kind != PlateDiscontinuity::Kind::inclusion) brk();
-    if (has_material(s1)) add_segment(i, j, xim, etam, xi1, eta1, s1);
+    if (has_material(s1)) {
+      add_segment(i, j, xim, etam, xi1, eta1, s1);
+      if (kind == PlateDiscontinuity::Kind::hole) crossings[key] = out.segments.back().a;  // ... and ends here
+    }
   }
 };
 
@@ -106,7 +134,8 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
     return BuildResult::failure(Code::invalid_argument, "boundary allowance %g is not positive", allowance);
   out = PlateBoundary{};
   const int nx = m.desc.cells[0], ny = m.desc.cells[1];
-  Walker w{m, out};
+  std::map<EdgeKey, int> crossings;
+  Walker w{m, out, crossings};
   for (int i = 0; i < nx; ++i) w.edge(i, 0, 0, 1);             // bottom, left to right
   for (int j = 0; j < ny; ++j) w.edge(nx - 1, j, 1, 2);        // right, upwards
   for (int i = nx - 1; i >= 0; --i) w.edge(i, ny - 1, 2, 3);   // top, right to left
@@ -122,6 +151,81 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
       out.vertices.pop_back();  // the duplicate was the last vertex added
     }
   }
+  // Void boundaries: in every sub-triangle of a cell cut by a void, the zero
+  // line of the cutting level set (linear there) is one segment, oriented with
+  // the material (φ ≥ 0) on its left; crossings are shared by edge, so the
+  // segments chain into loops (or into the outer chain where the void reaches
+  // the domain's edge).
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int cell = j * nx + i;
+      const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
+      if (cut < 0 || m.desc.discontinuities[static_cast<std::size_t>(cut)].kind != PlateDiscontinuity::Kind::hole)
+        continue;
+      int nodes[4];
+      for (int a = 0; a < 4; ++a) {
+        const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
+        nodes[a] = (j + dj) * (nx + 1) + (i + di);
+      }
+      const auto base = static_cast<std::size_t>(cut) * static_cast<std::size_t>(m.nodes);
+      double phi[5], mean = 0;
+      for (int a = 0; a < 4; ++a) mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>(nodes[a])]);
+      phi[4] = 0.25 * mean;
+      for (int t = 0; t < 4; ++t) {
+        // Triangle corners: cell corner t, corner t + 1, the centre (index 4).
+        const int corner[3] = {t, (t + 1) % 4, 4};
+        const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
+        int points = 0;
+        double cxi[2] = {0, 0}, ceta[2] = {0, 0};
+        EdgeKey keys[2];
+        for (int e = 0; e < 3; ++e) {
+          const int a = e, b = (e + 1) % 3;
+          const double fa = phi[corner[a]], fb = phi[corner[b]];
+          if (xfem::side_of(fa) == xfem::side_of(fb) || points == 2) continue;
+          // Order the ends as the key does, so both cells (or triangles) agree.
+          const bool outer = corner[a] < 4 && corner[b] < 4;
+          const int ka = corner[a] < 4 ? nodes[corner[a]] : -1, kb = corner[b] < 4 ? nodes[corner[b]] : -1;
+          if (outer) {
+            crossing(fa, fb, pxi[a], peta[a], pxi[b], peta[b], ka, kb, cxi[points], ceta[points]);
+            keys[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb)};
+          } else {
+            // An inner edge: from its cell corner to the centre.
+            const int c = corner[a] < 4 ? a : b, z = corner[a] < 4 ? b : a;
+            crossing(phi[corner[c]], phi[4], pxi[c], peta[c], pxi[z], peta[z], 0, 1, cxi[points], ceta[points]);
+            keys[points] = EdgeKey{1, cell, corner[c]};
+          }
+          ++points;
+        }
+        if (points != 2) continue;
+        // φ's gradient on the triangle (parent coordinates, then physical);
+        // the direction with the material on the left is (g_y, −g_x).
+        const double x0 = pxi[0] - pxi[2], y0 = peta[0] - peta[2], x1 = pxi[1] - pxi[2], y1 = peta[1] - peta[2];
+        const double r0 = phi[corner[0]] - phi[4], r1 = phi[corner[1]] - phi[4];
+        const double det = x0 * y1 - x1 * y0;
+        const double gx = (r0 * y1 - r1 * y0) / det / m.cell_size[0], gy = (x0 * r1 - x1 * r0) / det / m.cell_size[1];
+        const double dx = (cxi[1] - cxi[0]) * m.cell_size[0], dy = (ceta[1] - ceta[0]) * m.cell_size[1];
+        const int first = dx * gy - dy * gx >= 0 ? 0 : 1;
+        int ends[2];
+        for (int q = 0; q < 2; ++q) {
+          const int k = q == 0 ? first : 1 - first;
+          const auto found = crossings.find(keys[k]);
+          ends[q] = found != crossings.end() ? found->second : (crossings[keys[k]] = w.add_vertex(i, j, cxi[k], ceta[k], 1));
+        }
+        if (ends[0] == ends[1]) continue;  // the line through a corner: no length
+        PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(ends[0])];
+        PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(ends[1])];
+        if (va.next >= 0 || vb.prev >= 0)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%d: the void's boundary meets itself in cell (%d, %d) (refine "
+                                      "the mesh)",
+                                      cut, i, j);
+        PlateBoundarySegment seg;
+        seg.a = ends[0], seg.b = ends[1], seg.cell[0] = i, seg.cell[1] = j, seg.side = 1;
+        seg.xi[0] = cxi[first], seg.eta[0] = ceta[first], seg.xi[1] = cxi[1 - first], seg.eta[1] = ceta[1 - first];
+        out.segments.push_back(seg);
+        va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
+      }
+    }
   // Bins: the domain grown by the reach, bins at least a reach wide.
   out.allowance = allowance;
   out.reach = max_radius + allowance;
