@@ -34,18 +34,25 @@ ParticleDesc<2> disk(double mass, double radius, double stiffness, double x, dou
   return p;
 }
 
-/// A free steel plate 2 m × 1 m, 8 × 4 cells, cut by a free crack across it,
-/// and four disks coming at it from its four sides (no gravity).
-Coupled2dDesc free_plate_hit() {
-  Coupled2dDesc d;
-  PlateDesc& p = d.plate;
+/// A plane-strain plate [0, x] × [0, y] of nx × ny cells, ν = 0.3, ρ = 7800, dt = 1e-4 s.
+PlateDesc plate(double e, double x, double y, int nx, int ny) {
+  PlateDesc p;
   p.plane = PlateDesc::Plane::strain;
-  p.youngs_modulus = 2e9;
+  p.youngs_modulus = e;
   p.poisson_ratio = 0.3;
   p.density = 7800.0;
-  p.min[0] = 0, p.min[1] = 0, p.max[0] = 2, p.max[1] = 1;
-  p.cells[0] = 8, p.cells[1] = 4;
+  p.min[0] = 0, p.min[1] = 0, p.max[0] = x, p.max[1] = y;
+  p.cells[0] = nx, p.cells[1] = ny;
   p.dt = 1e-4;
+  return p;
+}
+
+/// A free plate 2 m × 1 m, 8 × 4 cells, cut by a free crack across it, and
+/// four disks coming at it from its four sides (no gravity).
+Coupled2dDesc free_plate_hit() {
+  Coupled2dDesc d;
+  d.plate = plate(2e9, 2, 1, 8, 4);
+  PlateDesc& p = d.plate;
   PlateDiscontinuity crack;
   crack.name = "c1";
   crack.kind = PlateDiscontinuity::Kind::crack;
@@ -167,18 +174,11 @@ TEST(Coupled2d, BadInputIsRefusedNamingTheKey) {
 // vertical velocity at rest.
 TEST(Coupled2d, ADiskSlidingAcrossManyJointsKeepsItsNormalForceAtMg) {
   Coupled2dDesc d;
-  PlateDesc& p = d.plate;
-  p.plane = PlateDesc::Plane::strain;
   // Nearly rigid: the force's deviation from m g scales with 1/E (the
   // plate's deflection under the moving load: 1.5e-4, 1.6e-6, 1.2e-8 N at
   // E = 2e11, 2e13, 2e15 Pa), so a stiff plate leaves what the joints do.
-  p.youngs_modulus = 2e15;
-  p.poisson_ratio = 0.3;
-  p.density = 7800.0;
-  p.min[0] = 0, p.min[1] = 0, p.max[0] = 10, p.max[1] = 0.5;
-  p.cells[0] = 100, p.cells[1] = 2;
-  p.dt = 1e-4;
-  p.supports.push_back({PlateEdge::bottom, {true, true}, false});
+  d.plate = plate(2e15, 10, 0.5, 100, 2);
+  d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
   d.dem.integrator = DemIntegrator::symplectic_euler;
   d.dem.damping_ratio = 0.3;
   d.dem.gravity = {0.0, -9.81};
@@ -286,14 +286,8 @@ TEST(Coupled2d, OneCellColumnReproducesThe1dCasesIAndII) {
 // angle, docs/coupled2d.md.)
 TEST(Coupled2d, ADiskRestingInAVoidCarriesItsWeightThroughTheVoidsBoundary) {
   Coupled2dDesc d;
+  d.plate = plate(2e11, 2, 1, 16, 8);
   PlateDesc& p = d.plate;
-  p.plane = PlateDesc::Plane::strain;
-  p.youngs_modulus = 2e11;
-  p.poisson_ratio = 0.3;
-  p.density = 7800.0;
-  p.min[0] = 0, p.min[1] = 0, p.max[0] = 2, p.max[1] = 1;
-  p.cells[0] = 16, p.cells[1] = 8;
-  p.dt = 1e-4;
   p.gamma = 0.6, p.beta = 0.3025;  // numerical damping: the plate's ringing after the drop dies out
   p.supports.push_back({PlateEdge::bottom, {true, true}, false});
   // A rectangular void, its sides between nodes: the cut cells' boundary of

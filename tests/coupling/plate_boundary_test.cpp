@@ -67,6 +67,13 @@ void build(const PlateDesc& d, double radius, Built& b) {
   plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.positions.data());
 }
 
+/// The 4 × 2 free plate with a vertical crack through it (x = 1.05).
+void build_cracked(Built& b) {
+  PlateDesc d = free_plate(4, 2);
+  d.discontinuities.push_back(vertical_crack(1.05));
+  build(d, 0.05, b);
+}
+
 /// Distance from c to the segment [p, q] (closed form, by clamping).
 double segment_distance(const double c[2], const double* p, const double* q) {
   const double e[2] = {q[0] - p[0], q[1] - p[1]};
@@ -130,10 +137,8 @@ TEST(PlateBoundary, AVoidIsAClosedClockwiseLoopOnItsCircle) {
 }
 
 TEST(PlateBoundary, ACrackBreaksTheChainAtItsMouthsWithOneVertexPerFace) {
-  PlateDesc d = free_plate(4, 2);
-  d.discontinuities.push_back(vertical_crack(1.05));
   Built b;
-  build(d, 0.05, b);
+  build_cracked(b);
   const PlateBoundary& pb = b.boundary;
   // Two cut cell edges (bottom, top) give two segments each: 14 segments in
   // two open chains, so 16 vertices.
@@ -278,10 +283,8 @@ TEST(PlateBoundary, SpreadForceCarriesTheForceAndItsMomentToTheUnknowns) {
   // for each rigid motion w (two translations, a rotation about the origin),
   // with the enriched unknowns at zero, Σ f·w over the unknowns must be F·w
   // at the contact point's reference position.
-  PlateDesc d = free_plate(4, 2);
-  d.discontinuities.push_back(vertical_crack(1.05));
   Built b;
-  build(d, 0.05, b);
+  build_cracked(b);
   const PlateModel& m = b.model;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
@@ -299,8 +302,8 @@ TEST(PlateBoundary, SpreadForceCarriesTheForceAndItsMomentToTheUnknowns) {
     const double py = m.desc.min[1] + m.cell_size[1] * (at.cell[1] + 0.5 * (1 + at.eta));
     double sum[3] = {0, 0, 0};
     for (int n = 0; n < m.nodes; ++n) {
-      const double x = m.desc.min[0] + m.cell_size[0] * (n % (d.cells[0] + 1));
-      const double y = m.desc.min[1] + m.cell_size[1] * (n / (d.cells[0] + 1));
+      const double x = m.desc.min[0] + m.cell_size[0] * (n % (m.desc.cells[0] + 1));
+      const double y = m.desc.min[1] + m.cell_size[1] * (n / (m.desc.cells[0] + 1));
       const int dx = m.node_dof[static_cast<std::size_t>(2 * n)], dy = m.node_dof[static_cast<std::size_t>(2 * n + 1)];
       sum[0] += f[static_cast<std::size_t>(dx)];
       sum[1] += f[static_cast<std::size_t>(dy)];
