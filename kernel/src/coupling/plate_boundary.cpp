@@ -36,10 +36,11 @@ void crossing(double p0, double p1, double xi0, double eta0, double xi1, double 
   eta = eta0 + t * (eta1 - eta0);
 }
 
-/// A crossing of a void's boundary with an edge: a cell edge (its two nodes,
-/// the smaller first) or a sub-triangle's inner edge (cell, corner): the
+/// A crossing of a void's boundary or a crack's face with an edge: a cell
+/// edge (its two nodes, the smaller first) or a sub-triangle's inner edge
+/// (cell, corner), and the side whose material the vertex belongs to: the
 /// vertex every segment through it shares.
-using EdgeKey = std::tuple<int, int, int>;  // (0, node, node) or (1, cell, corner)
+using EdgeKey = std::tuple<int, int, int, int>;  // (0, node, node, side) or (1, cell, corner, side)
 
 struct Walker {
   const PlateModel& m;
@@ -105,17 +106,17 @@ struct Walker {
     }
     double xim = 0, etam = 0;
     crossing(p0, p1, xi0, eta0, xi1, eta1, node(from), node(to), xim, etam);
-    const EdgeKey key{0, std::min(node(from), node(to)), std::max(node(from), node(to))};
+    const int lo = std::min(node(from), node(to)), hi = std::max(node(from), node(to));
     if (has_material(s0)) {
       add_segment(i, j, xi0, eta0, xim, etam, s0);
-      if (kind == PlateDiscontinuity::Kind::hole) crossings[key] = last;  // the void's boundary goes on from here
+      crossings[EdgeKey{0, lo, hi, s0}] = last;  // a void's boundary or a crack's face goes on from here
     }
     // A crack opens at the crossing: each face ends in a vertex of its own
     // side. An inclusion's field is continuous there: the chain goes on.
     if (kind != PlateDiscontinuity::Kind::inclusion) brk();
     if (has_material(s1)) {
       add_segment(i, j, xim, etam, xi1, eta1, s1);
-      if (kind == PlateDiscontinuity::Kind::hole) crossings[key] = out.segments.back().a;  // ... and ends here
+      crossings[EdgeKey{0, lo, hi, s1}] = out.segments.back().a;  // ... and ends here
     }
   }
 };
@@ -151,17 +152,22 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
       out.vertices.pop_back();  // the duplicate was the last vertex added
     }
   }
-  // Void boundaries: in every sub-triangle of a cell cut by a void, the zero
-  // line of the cutting level set (linear there) is one segment, oriented with
-  // the material (φ ≥ 0) on its left; crossings are shared by edge, so the
-  // segments chain into loops (or into the outer chain where the void reaches
-  // the domain's edge).
+  // Void boundaries and free crack faces: in every sub-triangle of a cell cut
+  // by a void, the zero line of the cutting level set (linear there) is one
+  // segment, oriented with the material (φ ≥ 0) on its left; a free crack's
+  // line is two, one per face, each with its side's material on its left.
+  // Crossings are shared by edge and side, so the segments chain into loops,
+  // or into the outer chain where they reach the domain's edge.
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const int cell = j * nx + i;
       const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
-      if (cut < 0 || m.desc.discontinuities[static_cast<std::size_t>(cut)].kind != PlateDiscontinuity::Kind::hole)
-        continue;
+      if (cut < 0) continue;
+      const PlateDiscontinuity& q = m.desc.discontinuities[static_cast<std::size_t>(cut)];
+      const bool hole = q.kind == PlateDiscontinuity::Kind::hole;
+      // A free crack's two faces; tied or unilateral faces are held together.
+      const bool faces = q.kind == PlateDiscontinuity::Kind::crack && q.faces == PlateDiscontinuity::Faces::free;
+      if (!hole && !faces) continue;
       int nodes[4];
       for (int a = 0; a < 4; ++a) {
         const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
@@ -177,7 +183,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
         int points = 0;
         double cxi[2] = {0, 0}, ceta[2] = {0, 0};
-        EdgeKey keys[2];
+        EdgeKey keys[2];  // without the side yet
         for (int e = 0; e < 3; ++e) {
           const int a = e, b = (e + 1) % 3;
           const double fa = phi[corner[a]], fb = phi[corner[b]];
@@ -187,12 +193,12 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
           const int ka = corner[a] < 4 ? nodes[corner[a]] : -1, kb = corner[b] < 4 ? nodes[corner[b]] : -1;
           if (outer) {
             crossing(fa, fb, pxi[a], peta[a], pxi[b], peta[b], ka, kb, cxi[points], ceta[points]);
-            keys[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb)};
+            keys[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb), 0};
           } else {
             // An inner edge: from its cell corner to the centre.
             const int c = corner[a] < 4 ? a : b, z = corner[a] < 4 ? b : a;
             crossing(phi[corner[c]], phi[4], pxi[c], peta[c], pxi[z], peta[z], 0, 1, cxi[points], ceta[points]);
-            keys[points] = EdgeKey{1, cell, corner[c]};
+            keys[points] = EdgeKey{1, cell, corner[c], 0};
           }
           ++points;
         }
@@ -204,26 +210,33 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         const double det = x0 * y1 - x1 * y0;
         const double gx = (r0 * y1 - r1 * y0) / det / m.cell_size[0], gy = (x0 * r1 - x1 * r0) / det / m.cell_size[1];
         const double dx = (cxi[1] - cxi[0]) * m.cell_size[0], dy = (ceta[1] - ceta[0]) * m.cell_size[1];
-        const int first = dx * gy - dy * gx >= 0 ? 0 : 1;
-        int ends[2];
-        for (int q = 0; q < 2; ++q) {
-          const int k = q == 0 ? first : 1 - first;
-          const auto found = crossings.find(keys[k]);
-          ends[q] = found != crossings.end() ? found->second : (crossings[keys[k]] = w.add_vertex(i, j, cxi[k], ceta[k], 1));
+        // The + side's segment runs with its material (φ ≥ 0) on the left; a
+        // crack's − face runs the other way over the same line.
+        for (const int side : {1, -1}) {
+          if (side < 0 && !faces) break;
+          const int first = (dx * gy - dy * gx >= 0) == (side > 0) ? 0 : 1;
+          int ends[2];
+          for (int e = 0; e < 2; ++e) {
+            const int k = e == 0 ? first : 1 - first;
+            EdgeKey key = keys[k];
+            std::get<3>(key) = side;
+            const auto found = crossings.find(key);
+            ends[e] = found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, cxi[k], ceta[k], side));
+          }
+          if (ends[0] == ends[1]) continue;  // the line through a corner: no length
+          PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(ends[0])];
+          PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(ends[1])];
+          if (va.next >= 0 || vb.prev >= 0)
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) "
+                                        "(refine the mesh)",
+                                        cut, q.name.c_str(), i, j);
+          PlateBoundarySegment seg;
+          seg.a = ends[0], seg.b = ends[1], seg.cell[0] = i, seg.cell[1] = j, seg.side = side;
+          seg.xi[0] = cxi[first], seg.eta[0] = ceta[first], seg.xi[1] = cxi[1 - first], seg.eta[1] = ceta[1 - first];
+          out.segments.push_back(seg);
+          va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
         }
-        if (ends[0] == ends[1]) continue;  // the line through a corner: no length
-        PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(ends[0])];
-        PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(ends[1])];
-        if (va.next >= 0 || vb.prev >= 0)
-          return BuildResult::failure(Code::invalid_argument,
-                                      "discontinuities.%d: the void's boundary meets itself in cell (%d, %d) (refine "
-                                      "the mesh)",
-                                      cut, i, j);
-        PlateBoundarySegment seg;
-        seg.a = ends[0], seg.b = ends[1], seg.cell[0] = i, seg.cell[1] = j, seg.side = 1;
-        seg.xi[0] = cxi[first], seg.eta[0] = ceta[first], seg.xi[1] = cxi[1 - first], seg.eta[1] = ceta[1 - first];
-        out.segments.push_back(seg);
-        va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
       }
     }
   // Bins: the domain grown by the reach, bins at least a reach wide.

@@ -10,9 +10,10 @@
 // breaks the chain there (each face's end is a vertex of its own side, so the
 // mouth can open). Then the voids' boundaries: in each sub-triangle of a cell
 // a void cuts, the zero line of the (there linear) level set, the material
-// on its left; crossings are shared by edge, so they close into loops, or
-// join the outer chain where a void reaches the domain's edge. (Crack faces
-// inside the plate are not in the list yet.) The broad phase is a fixed grid of bins over the
+// on its left; and a free crack's two faces, one per side, each with its
+// side's material on its left. Crossings are shared by edge and side, so
+// they close into loops, or join the outer chain where they reach the
+// domain's edge (a crack through the plate: two loops). The broad phase is a fixed grid of bins over the
 // domain: each segment is listed, in segment order, in every bin within
 // `reach` of it, so a disk looks in one bin and meets its candidates in a
 // fixed order.
@@ -75,7 +76,7 @@ struct PlateBoundary {
   double reach = 0, allowance = 0;
 };
 
-/// Builds the outer boundary and the voids' of a built plate, with bins for disks up to
+/// Builds the outer boundary, the voids' and the free cracks' faces of a built plate, with bins for disks up to
 /// `max_radius` and boundary displacements up to `allowance` (m, > 0). Fails
 /// (naming `what`) for an unbuilt or static plate; allocates.
 BuildResult plate_boundary_build(const PlateModel& plate, double max_radius, double allowance, PlateBoundary& out);
