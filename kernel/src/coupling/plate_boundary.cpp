@@ -20,9 +20,6 @@ using Code = BuildResult::Code;
 constexpr double kXi[4] = {-1.0, 1.0, 1.0, -1.0};
 constexpr double kEta[4] = {-1.0, -1.0, 1.0, 1.0};
 
-/// The cell edge from local corner `from` to corner `to` of cell (i, j), walked
-/// with the material on its left, appended to the boundary: one segment, or
-/// two where a discontinuity crosses it.
 /// Where the level set, linear from p0 at (xi0, eta0) to p1 at (xi1, eta1),
 /// is zero: computed from the end at the smaller node, so that the two cells
 /// that share a cell edge find the same point.
@@ -42,6 +39,9 @@ void crossing(double p0, double p1, double xi0, double eta0, double xi1, double 
 /// vertex every segment through it shares.
 using EdgeKey = std::tuple<int, int, int, int>;  // (0, node, node, side) or (1, cell, corner, side)
 
+/// Appends the outer boundary's segments: edge() takes the cell edge from
+/// local corner `from` to corner `to` of cell (i, j), walked with the material
+/// on its left (one segment, or two where a discontinuity crosses it).
 struct Walker {
   const PlateModel& m;
   PlateBoundary& out;
@@ -132,7 +132,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
     return BuildResult::failure(Code::invalid_argument, "dem.particles: the largest radius %g is not positive",
                                 max_radius);
   if (!(std::isfinite(allowance) && allowance > 0))
-    return BuildResult::failure(Code::invalid_argument, "boundary allowance %g is not positive", allowance);
+    return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a positive length", allowance);
   out = PlateBoundary{};
   const int nx = m.desc.cells[0], ny = m.desc.cells[1];
   std::map<EdgeKey, int> crossings;
