@@ -258,6 +258,12 @@ struct PlateWorkspace {
   std::vector<char> active, factored_active;
   xfem::SymmetricBand effective;
   xfem::BandLdlt factor;
+  /// A host's force on the unknowns (N), held over a step like a load of
+  /// shape step: empty (the default) for none, else one entry per unknown,
+  /// sized by the host after build (the coupled 2D stepper's contact forces).
+  /// Its work is the host's to book (the plate's energy check does not see
+  /// it); plate_start_acceleration() makes the step start from it.
+  std::vector<double> external_force;
 };
 
 /// Validates every field (the message starts with the field's name as in the
@@ -278,6 +284,12 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
 /// Recomputes state.a from M a = f(t) − C v − K u at state.time and restarts the
 /// energy books: call after editing u or v. No allocation.
 StepStatus plate_initial_acceleration(const PlateModel& model, PlateState& state, PlateWorkspace& workspace);
+
+/// Recomputes state.a at state.time as plate_initial_acceleration() does, but
+/// keeps the energy books: the acceleration a step starts from after the host
+/// changed workspace.external_force (its right limit), so that Newmark
+/// delivers the force's impulse f·Δt exactly. No allocation.
+StepStatus plate_start_acceleration(const PlateModel& model, PlateState& state, PlateWorkspace& workspace);
 
 /// The time shape of load `load` at t (1 for self weight, load index −1).
 double plate_load_shape(const PlateModel& model, int load, double t);
@@ -331,6 +343,22 @@ int plate_cell_pieces(const PlateModel& model, int i, int j, PlateCellPiece out[
 /// side: on a crack, the two sides' pieces give the two faces' values.
 void plate_piece_fields(const PlateModel& model, const PlateState& state, int i, int j, const PlateCellPiece& piece,
                         double xi, double eta, double u[2], double v[2], double stress[3]);
+
+/// The plate's functions at one material point: parent point (ξ, η) of cell
+/// (i, j), on side `side` (±1) of the discontinuity that cuts the cell (+1 for
+/// an uncut cell): the standard N_a of the cell's four nodes, then the
+/// enrichments of its enriched nodes, each with its unknowns. A field's value
+/// there is Σ n[f]·(its unknown dof[f][c], or held[f][c] for a held
+/// displacement); a force F there is Σ n[f]·F_c on each unknown dof[f][c].
+inline constexpr int kPlateMaxPointFunctions = 12;
+struct PlatePointBasis {
+  int count = 0;
+  double n[kPlateMaxPointFunctions] = {};
+  int dof[kPlateMaxPointFunctions][2] = {};       ///< −1: held (or absent)
+  double held[kPlateMaxPointFunctions][2] = {};   ///< a held standard component's displacement, m
+};
+/// False for an unbuilt model or a cell out of range. No allocation.
+bool plate_point_basis(const PlateModel& model, int i, int j, double xi, double eta, int side, PlatePointBasis& out);
 
 /// y −= K x on the unknowns, cell by cell (each cell's element stiffness, in
 /// cell order, then the tied crack faces' penalties): the product the step

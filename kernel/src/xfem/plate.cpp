@@ -625,6 +625,8 @@ class PlateOperator {
     for (int i = 0; i < n; ++i) base[i] = m_.held_force[static_cast<std::size_t>(i)];
     const std::size_t entries = m_.load_dof.size();
     for (std::size_t e = 0; e < entries; ++e) base[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
+    if (!ws_.external_force.empty())
+      for (int i = 0; i < n; ++i) base[i] += ws_.external_force[static_cast<std::size_t>(i)];
     plate_subtract_stiffness_product(m_, x, base);
     for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
     if (m_.unilateral_points == 0) {
@@ -1555,6 +1557,12 @@ StepStatus plate_initial_acceleration(const PlateModel& model, PlateState& state
   return s;
 }
 
+StepStatus plate_start_acceleration(const PlateModel& model, PlateState& state, PlateWorkspace& workspace) {
+  if (!model.built || model.desc.analysis != PlateDesc::Analysis::dynamic) return StepStatus::not_built;
+  const detail::PlateOperator op(model, workspace);
+  return op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
+}
+
 StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace& ws) {
   if (!model.built || model.desc.analysis != PlateDesc::Analysis::dynamic) return StepStatus::not_built;
   const double t_n = static_cast<double>(state.step) * model.scheme.dt;
@@ -1795,6 +1803,21 @@ void plate_piece_fields(const PlateModel& m, const PlateState& s, int i, int j, 
   for (int r = 0; r < 3; ++r)
     stress[r] = dd[static_cast<std::size_t>(3 * r)] * eps[0] + dd[static_cast<std::size_t>(3 * r + 1)] * eps[1] +
                 dd[static_cast<std::size_t>(3 * r + 2)] * eps[2];
+}
+
+bool plate_point_basis(const PlateModel& m, int i, int j, double xi, double eta, int side, PlatePointBasis& out) {
+  out.count = 0;
+  if (!m.built || i < 0 || j < 0 || i >= m.desc.cells[0] || j >= m.desc.cells[1]) return false;
+  CellView view;
+  make_view(m, i, j, view);
+  BasisAt basis;
+  evaluate(m, view, xi, eta, triangle_of(xi, eta), view.cut >= 0 ? side : 1, basis);
+  out.count = view.count;
+  for (int f = 0; f < view.count; ++f) {
+    out.n[f] = basis.n[f];
+    for (int c = 0; c < 2; ++c) out.dof[f][c] = view.dof[f][c], out.held[f][c] = view.held[f][c];
+  }
+  return true;
 }
 
 int plate_point_region(const PlateDesc& d, double x, double y, double tolerance) {

@@ -1,0 +1,138 @@
+// The coupled 2D X-FE-DEM stepper: disks (DEM, type a contacts between them)
+// against the boundary of the 2D plate (type c contact), in the staggered
+// step of the 1D stepper (coupled.hpp, docs/coupling.md) with the scalar tip
+// force become a list of contact points with vector forces.
+//
+// One coupled step advances the plate by dt and the disks by `dem_substeps`
+// substeps of h = dt/n. Within the window:
+//   - the disks see the plate's boundary (coupling/plate_boundary.hpp) move
+//     linearly from its place at t_n to its place at t_{n+1}; at the start
+//     of each substep every disk's contacts with it are found (closest point,
+//     one contact law: K = k_i, η = 2ζ√(k_i m_i), as against a plane), and
+//     their force is held over the substep as the disk's external force;
+//   - the plate receives, as a force held constant over its step, the
+//     impulse the disks took from it, each contact's h·F spread to its
+//     unknowns by the (enriched) shape functions at the contact point, over dt
+//     (its acceleration at t_n re-evaluated with that force, so that Newmark
+//     delivers exactly its impulse).
+// The two depend on each other: the window is iterated to the fixed point
+// f̄ = −J(f̄)/dt (a vector over the plate's unknowns) by Aitken-relaxed
+// fixed-point passes (a window that circles a jump of J is taken at its
+// smallest residual: kCoupled2dStallPasses). The plate then takes the step with −J/dt of the last
+// pass, so the exchange is impulse-conserving at every step (and carries the
+// moment: plate_spread_force), and at the fixed point both sides saw the same
+// boundary motion, so the exchange does no net work.
+//
+// Held forces are exactly the particle integrator's own evaluation for
+// symplectic Euler (forces at the start of the step), which this slice
+// requires; the disks are frictionless (no torque input to the DEM yet).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "xfdem/coupling/plate_boundary.hpp"
+#include "xfdem/dem.hpp"
+#include "xfdem/plate.hpp"
+#include "xfdem/status.hpp"
+
+namespace xfdem {
+
+struct Coupled2dDesc {
+  /// Disks: dt is set to plate.dt / dem_substeps; external_forces is set on.
+  DemDesc<2> dem;
+  PlateDesc plate;  ///< dynamic analysis
+  int dem_substeps = 10;
+  /// How far the plate's boundary may move from its reference place (m): the
+  /// broad phase's bins hold for it; 0: half the smaller cell side. A step
+  /// whose boundary moves further says coupling_unstable.
+  double boundary_allowance = 0;
+  /// Refuse to build when the stiffest disk–boundary contact, a two-mass
+  /// oscillator ω_c² = k (1/m_node + 1/m_disk) with m_node the lightest
+  /// node's lumped mass, has ω_c·dt above kCoupledMaxOmegaDt or ω_c·dt/n
+  /// above the disks' integrator's stable step.
+  bool reject_unstable_coupling = true;
+};
+
+struct Coupled2dModel {
+  bool built = false;
+  DemModel<2> dem;
+  PlateModel plate;
+  PlateBoundary boundary;
+  int substeps = 1;
+  double dt = 0;
+  double coupling_omega = 0;  ///< ω_c of the stiffest disk–boundary contact, rad/s
+  bool beyond_stable_step = false;
+};
+
+/// A window has settled when |g| ≤ this × (|f̄| + |J/dt|) (Euclidean norms
+/// over the plate's unknowns), g = −J/dt − f̄: the 1D stepper's tolerance.
+inline constexpr double kCoupled2dTolerance = 1e-10;
+/// A window whose smallest residual has not improved for this many passes
+/// (or after kCoupled2dMaxPasses) circles a jump of J (a contact closing or
+/// opening at another substep as f̄ moves: no fixed point exists). It is
+/// taken at its smallest residual, which the state records
+/// (Coupled2dState::unsettled_windows, worst_unsettled); above
+/// kCoupled2dJumpTolerance the step also says coupling_unstable. The plate
+/// still takes exactly the disks' impulse; what is not exact there is the
+/// boundary motion the disks saw, off by the plate's response to g. (The 1D
+/// stepper instead blends the two sides of the jump; not ported yet.)
+inline constexpr int kCoupled2dStallPasses = 6;
+inline constexpr int kCoupled2dMaxPasses = 100;
+inline constexpr double kCoupled2dJumpTolerance = 1e-6;
+
+struct Coupled2dState {
+  DemState<2> dem;
+  PlateState plate;
+  /// The force (N per unknown) the plate received over the last step.
+  std::vector<double> coupling_force;
+  /// Totals since the start: impulse (N·s, x and y) the disks took from the
+  /// boundary, and that the plate received (its unknowns' shares, summed as a
+  /// rigid translation sees them).
+  double impulse_to_particles[2] = {0, 0}, impulse_to_plate[2] = {0, 0};
+  /// Work the exchange did on the plate, Σ f̄·Δu, and the work the disks did
+  /// on the boundary, Σ −h F·V (F the boundary's force on a disk, V the
+  /// contact point's velocity over the window), J. Equal at settled windows:
+  /// the exchange creates no energy.
+  double work_on_plate = 0, work_by_particles = 0;
+  std::int32_t last_passes = 0, peak_passes = 0;
+  /// Windows taken at their smallest residual (a jump), and the largest such |g|/scale.
+  std::int64_t unsettled_windows = 0;
+  double worst_unsettled = 0;
+  std::int64_t step = 0;
+  double time = 0;
+};
+
+struct Coupled2dWorkspace {
+  DemWorkspace<2> dem;
+  PlateWorkspace plate;
+  DemState<2> dem_start;
+  PlateState plate_start;
+  std::vector<double> start_positions, end_positions, positions;  ///< boundary vertices (2 each)
+  std::vector<double> impulse;  ///< the pass's impulse to the plate, per unknown
+  std::vector<double> residual, previous_residual, best_force;
+  double relaxation = 1;
+};
+
+/// Builds both halves and the boundary; the only allocating call. Messages
+/// name the key ("dem.integrator: ...", "dem.particles[0].position: ...").
+/// Refuses a disk whose centre starts in the plate's material.
+BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& model, Coupled2dState& state,
+                            Coupled2dWorkspace& workspace);
+
+/// One plate step and its disk substeps. Never allocates.
+StepStatus coupled2d_step(const Coupled2dModel& model, Coupled2dState& state, Coupled2dWorkspace& workspace);
+
+/// Force (x, y; N) of the boundary on disk i that the last substep of the
+/// last step held (the sum of its contacts'); false for a bad index.
+bool coupled2d_boundary_force(const Coupled2dModel& model, const Coupled2dState& state, std::int32_t particle,
+                              double force[2]);
+
+struct Coupled2dWorld {
+  Coupled2dModel model;
+  Coupled2dState state;
+  Coupled2dWorkspace workspace;
+  BuildResult build(const Coupled2dDesc& desc) { return build_coupled2d(desc, model, state, workspace); }
+  StepStatus step() { return coupled2d_step(model, state, workspace); }
+};
+
+}  // namespace xfdem

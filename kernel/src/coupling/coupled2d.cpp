@@ -1,0 +1,307 @@
+// The coupled 2D stepper: disks against the plate's boundary
+// (include/xfdem/coupled2d.hpp).
+#include "xfdem/coupled2d.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dem/contact_law.hpp"
+#include "xfdem/coupled.hpp"
+
+namespace xfdem {
+
+namespace {
+
+using Code = BuildResult::Code;
+
+/// The boundary at fraction s of the window: vertices lerped from start to end.
+void boundary_at(const Coupled2dWorkspace& w, double s, double* positions) {
+  const std::size_t n = w.start_positions.size();
+  for (std::size_t k = 0; k < n; ++k)
+    positions[k] = w.start_positions[k] + s * (w.end_positions[k] - w.start_positions[k]);
+}
+
+/// The velocity of a contact's point over the window: its vertices' (Δx/dt), lerped along the segment.
+void contact_velocity(const PlateBoundary& b, const Coupled2dWorkspace& w, const PlateBoundaryContact& c, double dt,
+                      double out[2]) {
+  auto vertex_velocity = [&](int v, int axis) {
+    const auto k = static_cast<std::size_t>(2 * v + axis);
+    return (w.end_positions[k] - w.start_positions[k]) / dt;
+  };
+  const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(c.segment)];
+  for (int axis = 0; axis < 2; ++axis) {
+    if (c.vertex >= 0) {
+      out[axis] = vertex_velocity(c.vertex, axis);
+    } else {
+      out[axis] = (1.0 - c.t) * vertex_velocity(s.a, axis) + c.t * vertex_velocity(s.b, axis);
+    }
+  }
+}
+
+/// Normal force (compressive positive) of disk i against a contact with the
+/// boundary moving at `speed`: the plane contact's law (K = k_i, η = 2ζ√(k_i m_i)).
+double contact_force(const DemModel<2>& dem, std::int32_t i, const PlateBoundaryContact& c, const double v[2],
+                     const double speed[2]) {
+  const double rate = (speed[0] - v[0]) * c.normal[0] + (speed[1] - v[1]) * c.normal[1];
+  return dem_detail::normal_force(dem.law == ContactLaw::linear_nontensile, dem.stiffness[static_cast<std::size_t>(i)],
+                                  dem.damping_ratio > 0 ? dem.plane_eta[static_cast<std::size_t>(i)] : 0.0, c.overlap,
+                                  rate);
+}
+
+double norm(const std::vector<double>& x) {
+  double s = 0;
+  for (const double v : x) s += v * v;
+  return std::sqrt(s);
+}
+
+/// Σ of the unknowns' shares as a rigid translation along `axis` sees them.
+double translation_share(const PlateModel& m, const std::vector<double>& f, int axis) {
+  double sum = 0;
+  for (int n = 0; n < m.nodes; ++n) {
+    const int dof = m.node_dof[static_cast<std::size_t>(2 * n + axis)];
+    if (dof >= 0) sum += f[static_cast<std::size_t>(dof)];
+  }
+  return sum;
+}
+
+/// One pass over the window with the plate's force `force`: the plate
+/// stepped from its start, the disks substepped against the boundary moving
+/// between the plate's two places; the impulse the plate should receive is
+/// left in w.impulse. Returns the halves' flags.
+StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w, double impulse_taken[2],
+                       double& work) {
+  StepStatus status = StepStatus::ok;
+  s.plate = w.plate_start;
+  s.dem = w.dem_start;
+  status |= plate_start_acceleration(m.plate, s.plate, w.plate);
+  status |= without(plate_step(m.plate, s.plate, w.plate), StepStatus::energy_growth);
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.end_positions.data());
+  if (!plate_boundary_within_reach(m.boundary, w.end_positions.data())) status |= StepStatus::coupling_unstable;
+  std::fill(w.impulse.begin(), w.impulse.end(), 0.0);
+  impulse_taken[0] = impulse_taken[1] = 0.0;
+  work = 0.0;
+  const double h = m.dem.dt;
+  const int n = m.substeps;
+  for (int k = 0; k < n; ++k) {
+    boundary_at(w, static_cast<double>(k) / n, w.positions.data());
+    for (std::int32_t i = 0; i < m.dem.n; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
+      const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
+      PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+      const int count = plate_boundary_contacts(m.boundary, w.positions.data(), centre, m.dem.radius[iu], contacts);
+      double total[2] = {0, 0};
+      for (int c = 0; c < count; ++c) {
+        double speed[2];
+        contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
+        const double fn = contact_force(m.dem, i, contacts[c], v, speed);
+        if (fn == 0.0) continue;
+        const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
+        total[0] += on_disk[0], total[1] += on_disk[1];
+        work -= h * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
+        // The plate gets the opposite impulse, at the contact's material point.
+        const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
+        plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, w.impulse.data());
+      }
+      s.dem.external_force[0][iu] = total[0];
+      s.dem.external_force[1][iu] = total[1];
+      impulse_taken[0] += h * total[0];
+      impulse_taken[1] += h * total[1];
+    }
+    dem_inputs_changed(s.dem);
+    status |= without(dem_step(m.dem, s.dem, w.dem), StepStatus::energy_growth);
+  }
+  return status;
+}
+
+}  // namespace
+
+BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
+  m = Coupled2dModel{};
+  s = Coupled2dState{};
+  w = Coupled2dWorkspace{};
+  if (desc.dem_substeps < 1 || desc.dem_substeps > 1'000'000)
+    return BuildResult::failure(Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)", desc.dem_substeps);
+  if (desc.plate.analysis != PlateDesc::Analysis::dynamic)
+    return BuildResult::failure(Code::invalid_argument, "continuum.analysis: a coupled scene needs %s", "dynamic");
+  if (desc.dem.integrator != DemIntegrator::symplectic_euler)
+    return BuildResult::failure(Code::invalid_argument,
+                                "dem.integrator: %s is not supported against the plate yet: the boundary's forces are "
+                                "held over a substep, which is the integrator's own evaluation only for "
+                                "symplectic_euler",
+                                integrator_name(desc.dem.integrator));
+  if (desc.dem.friction != 0.0 || desc.dem.rolling_friction != 0.0)
+    return BuildResult::failure(Code::invalid_argument,
+                                "dem.contact.friction: disks against the plate are frictionless in this version (got "
+                                "friction %g)",
+                                desc.dem.friction != 0.0 ? desc.dem.friction : desc.dem.rolling_friction);
+  if (desc.dem.law == ContactLaw::hertz)
+    return BuildResult::failure(Code::invalid_argument, "dem.contact.law: %s is not supported against the plate yet",
+                                "hertz");
+  if (!(std::isfinite(desc.boundary_allowance) && desc.boundary_allowance >= 0))
+    return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a length >= 0",
+                                desc.boundary_allowance);
+  PlateDesc plate = desc.plate;
+  plate.energy_check = kEnergyCheckOff;  // an open system here: the exchange sets its input
+  BuildResult r = build_plate(plate, m.plate, s.plate, w.plate);
+  if (!r.ok()) return BuildResult::failure(r.code, "continuum.%s", r.message);
+  // A disk whose centre is in the plate's material would be thrown out by its contact.
+  for (std::size_t i = 0; i < desc.dem.particles.size(); ++i) {
+    const auto& p = desc.dem.particles[i];
+    if (plate_point_region(plate, p.position[0], p.position[1], 0.0) == 0 ||
+        plate_point_region(plate, p.position[0], p.position[1], 0.0) == 1)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "dem.particles[%zu].position: its centre (%g, %g) is inside the plate's material",
+                                  i, p.position[0], p.position[1]);
+  }
+  DemDesc<2> dem = desc.dem;
+  dem.dt = plate.dt / desc.dem_substeps;
+  dem.external_forces = true;
+  dem.energy_check = kEnergyCheckOff;
+  r = build_dem(dem, m.dem, s.dem, w.dem);
+  if (!r.ok()) return BuildResult::failure(r.code, "dem.%s", r.message);
+  m.substeps = desc.dem_substeps;
+  m.dt = plate.dt;
+
+  double max_radius = 0, worst = 0, lightest = INFINITY;
+  for (const double mass : m.plate.node_mass)
+    if (mass > 0) lightest = std::min(lightest, mass);
+  for (std::int32_t i = 0; i < m.dem.n; ++i) {
+    max_radius = std::max(max_radius, m.dem.radius[static_cast<std::size_t>(i)]);
+    worst = std::max(worst, m.dem.stiffness[static_cast<std::size_t>(i)] *
+                                (1.0 / lightest + m.dem.inv_mass[static_cast<std::size_t>(i)]));
+  }
+  m.coupling_omega = std::sqrt(worst);
+  const double factor = dem_stable_step_factor(dem.integrator, dem.damping_ratio);
+  m.beyond_stable_step = m.coupling_omega * dem.dt > factor || m.coupling_omega * m.dt > kCoupledMaxOmegaDt;
+  if (desc.reject_unstable_coupling && m.coupling_omega * dem.dt > factor)
+    return BuildResult::failure(Code::unstable_time_step,
+                                "dem_substeps: the disk substep %g s (dt / dem_substeps) exceeds the stable step %g s "
+                                "of %s for a disk on the plate's lightest node (omega = sqrt(k (1/m_node + 1/m)) = %g "
+                                "rad/s); raise dem_substeps or reduce time.dt",
+                                dem.dt, factor / m.coupling_omega, integrator_name(dem.integrator), m.coupling_omega);
+  if (desc.reject_unstable_coupling && m.coupling_omega * m.dt > kCoupledMaxOmegaDt)
+    return BuildResult::failure(Code::unstable_time_step,
+                                "time.dt: %g s is too long for the disk-plate exchange to settle: omega*dt = %.3g > "
+                                "%.3g (omega = sqrt(k (1/m_node + 1/m)) = %g rad/s); reduce time.dt",
+                                m.dt, m.coupling_omega * m.dt, kCoupledMaxOmegaDt, m.coupling_omega);
+  const double allowance = desc.boundary_allowance > 0
+                               ? desc.boundary_allowance
+                               : 0.5 * std::min(m.plate.cell_size[0], m.plate.cell_size[1]);
+  r = plate_boundary_build(m.plate, max_radius > 0 ? max_radius : 1e-3 * allowance, allowance, m.boundary);
+  if (!r.ok()) return r;
+
+  const auto dofs = static_cast<std::size_t>(m.plate.dofs);
+  const std::size_t coords = 2 * m.boundary.vertices.size();
+  w.plate.external_force.assign(dofs, 0.0);
+  s.coupling_force.assign(dofs, 0.0);
+  w.impulse.assign(dofs, 0.0);
+  w.residual.assign(dofs, 0.0);
+  w.previous_residual.assign(dofs, 0.0);
+  w.best_force.assign(dofs, 0.0);
+  w.start_positions.assign(coords, 0.0);
+  w.end_positions.assign(coords, 0.0);
+  w.positions.assign(coords, 0.0);
+  w.dem_start = s.dem;
+  w.plate_start = s.plate;
+  m.built = true;
+  return BuildResult::success();
+}
+
+StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
+  if (!m.built) return StepStatus::not_built;
+  w.dem_start = s.dem;
+  w.plate_start = s.plate;
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.start_positions.data());
+  std::vector<double>& force = w.plate.external_force;
+  force = s.coupling_force;  // the first pass: last window's force
+  const auto dofs = force.size();
+  StepStatus status = StepStatus::ok;
+  double taken[2] = {0, 0}, work_by_particles = 0;
+  int passes = 0, best_pass = 0;
+  double best = INFINITY;  // the smallest |g|/scale seen, at w.best_force
+  bool last_is_best = false;
+  while (true) {
+    StepStatus pass = window_pass(m, s, w, taken, work_by_particles);
+    ++passes;
+    // g = −J/dt − f̄ (w.impulse holds the plate's share −J already).
+    for (std::size_t k = 0; k < dofs; ++k) w.residual[k] = w.impulse[k] / m.dt - force[k];
+    const double scale = norm(force) + norm(w.impulse) / m.dt;
+    const double g = scale > 0 ? norm(w.residual) / scale : 0.0;
+    last_is_best = g < best;
+    if (last_is_best) {
+      best = g, best_pass = passes;
+      w.best_force = force;
+    }
+    if (g <= kCoupled2dTolerance || has(pass, StepStatus::non_finite)) {
+      status |= pass;
+      break;
+    }
+    // A contact that closes or opens at another substep as f̄ moves makes J
+    // jump: no force is a fixed point, and the passes circle the jump. The
+    // window then takes the pass with the smallest residual.
+    if (passes - best_pass >= kCoupled2dStallPasses || passes == kCoupled2dMaxPasses) {
+      if (!last_is_best) {
+        force = w.best_force;
+        pass = window_pass(m, s, w, taken, work_by_particles);
+        ++passes;
+      }
+      status |= pass;
+      s.unsettled_windows += 1;
+      s.worst_unsettled = std::max(s.worst_unsettled, best);
+      if (!(best <= kCoupled2dJumpTolerance)) status |= StepStatus::coupling_unstable;
+      break;
+    }
+    // Aitken's relaxation of the fixed-point update (Irons–Tuck).
+    if (passes == 1) {
+      w.relaxation = 1.0;
+    } else {
+      double num = 0, den = 0;
+      for (std::size_t k = 0; k < dofs; ++k) {
+        const double d = w.residual[k] - w.previous_residual[k];
+        num += w.previous_residual[k] * d;
+        den += d * d;
+      }
+      if (den > 0) w.relaxation = -w.relaxation * num / den;
+    }
+    for (std::size_t k = 0; k < dofs; ++k) {
+      force[k] += w.relaxation * w.residual[k];
+      w.previous_residual[k] = w.residual[k];
+    }
+  }
+  // The plate takes the impulse the disks gave in the last pass, exactly.
+  bool exact = true;
+  for (std::size_t k = 0; k < dofs; ++k) exact = exact && force[k] == w.impulse[k] / m.dt;
+  if (!exact) {
+    for (std::size_t k = 0; k < dofs; ++k) force[k] = w.impulse[k] / m.dt;
+    s.plate = w.plate_start;
+    status |= plate_start_acceleration(m.plate, s.plate, w.plate);
+    status |= without(plate_step(m.plate, s.plate, w.plate), StepStatus::energy_growth);
+  }
+  double work = 0;
+  for (std::size_t k = 0; k < dofs; ++k) work += force[k] * (s.plate.u[k] - w.plate_start.u[k]);
+  s.work_on_plate += work;
+  s.work_by_particles += work_by_particles;
+  s.coupling_force = force;
+  for (int axis = 0; axis < 2; ++axis) {
+    s.impulse_to_particles[axis] += taken[axis];
+    s.impulse_to_plate[axis] += m.dt * translation_share(m.plate, force, axis);
+  }
+  s.last_passes = passes;
+  s.peak_passes = std::max(s.peak_passes, passes);
+  s.step += 1;
+  s.time = static_cast<double>(s.step) * m.dt;
+  if (m.beyond_stable_step) status |= StepStatus::unstable_time_step;
+  return status;
+}
+
+bool coupled2d_boundary_force(const Coupled2dModel& m, const Coupled2dState& s, std::int32_t i, double force[2]) {
+  force[0] = force[1] = 0.0;
+  if (i < 0 || i >= m.dem.n) return false;
+  // The step leaves each disk's boundary force as its external force input.
+  force[0] = s.dem.external_force[0][static_cast<std::size_t>(i)];
+  force[1] = s.dem.external_force[1][static_cast<std::size_t>(i)];
+  return true;
+}
+
+}  // namespace xfdem

@@ -1,0 +1,417 @@
+// The plate's boundary for disk contact: construction, broad phase, closest
+// point, and the spreading of a contact force by the shape functions
+// (include/xfdem/coupling/plate_boundary.hpp).
+#include "xfdem/coupling/plate_boundary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "xfdem/xfem/level_set.hpp"
+
+namespace xfdem {
+
+namespace {
+
+using Code = BuildResult::Code;
+
+/// Corners of a cell in parent coordinates, counter-clockwise from the lower left.
+constexpr double kXi[4] = {-1.0, 1.0, 1.0, -1.0};
+constexpr double kEta[4] = {-1.0, -1.0, 1.0, 1.0};
+
+/// Where the level set, linear from p0 at (xi0, eta0) to p1 at (xi1, eta1),
+/// is zero: computed from the end at the smaller node, so that the two cells
+/// that share a cell edge find the same point.
+void crossing(double p0, double p1, double xi0, double eta0, double xi1, double eta1, int n0, int n1, double& xi,
+              double& eta) {
+  if (n1 < n0) {
+    std::swap(p0, p1), std::swap(xi0, xi1), std::swap(eta0, eta1);
+  }
+  const double t = p0 / (p0 - p1);
+  xi = xi0 + t * (xi1 - xi0);
+  eta = eta0 + t * (eta1 - eta0);
+}
+
+/// A crossing of a void's boundary or a crack's face with an edge: a cell
+/// edge (its two nodes, the smaller first) or a sub-triangle's inner edge
+/// (cell, corner), and the side whose material the vertex belongs to: the
+/// vertex every segment through it shares.
+using EdgeKey = std::tuple<int, int, int, int>;  // (0, node, node, side) or (1, cell, corner, side)
+
+/// Appends the outer boundary's segments: edge() takes the cell edge from
+/// local corner `from` to corner `to` of cell (i, j), walked with the material
+/// on its left (one segment, or two where a discontinuity crosses it).
+struct Walker {
+  const PlateModel& m;
+  PlateBoundary& out;
+  std::map<EdgeKey, int>& crossings;
+  int last = -1;   ///< the open chain's last vertex (−1: broken)
+  int first = -1;  ///< the first vertex of the walk, if the chain never broke before it
+  bool broke = false;
+
+  int add_vertex(int i, int j, double xi, double eta, int side) {
+    PlateBoundaryVertex v;
+    const double hx = m.cell_size[0], hy = m.cell_size[1];
+    v.x[0] = m.desc.min[0] + hx * (i + 0.5 * (1.0 + xi));
+    v.x[1] = m.desc.min[1] + hy * (j + 0.5 * (1.0 + eta));
+    v.at = PlateMaterialPoint{{i, j}, xi, eta, side};
+    out.vertices.push_back(v);
+    return static_cast<int>(out.vertices.size()) - 1;
+  }
+
+  void add_segment(int i, int j, double xi0, double eta0, double xi1, double eta1, int side) {
+    const int a = last >= 0 ? last : add_vertex(i, j, xi0, eta0, side);
+    const int b = add_vertex(i, j, xi1, eta1, side);
+    PlateBoundarySegment s;
+    s.a = a, s.b = b, s.cell[0] = i, s.cell[1] = j;
+    s.xi[0] = xi0, s.eta[0] = eta0, s.xi[1] = xi1, s.eta[1] = eta1, s.side = side;
+    out.segments.push_back(s);
+    const int k = static_cast<int>(out.segments.size()) - 1;
+    out.vertices[static_cast<std::size_t>(a)].next = k;
+    out.vertices[static_cast<std::size_t>(b)].prev = k;
+    if (first < 0 && !broke) first = a;
+    last = b;
+  }
+
+  void brk() {
+    last = -1;
+    broke = true;
+  }
+
+  void edge(int i, int j, int from, int to) {
+    const int nx = m.desc.cells[0];
+    const int cell = j * nx + i;
+    const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
+    const double xi0 = kXi[from], eta0 = kEta[from], xi1 = kXi[to], eta1 = kEta[to];
+    if (cut < 0) {
+      const int material = m.cell_material.empty() ? 0 : m.cell_material[static_cast<std::size_t>(cell)];
+      if (material < 0) return brk();  // a hole's cell: no material on this edge
+      return add_segment(i, j, xi0, eta0, xi1, eta1, 1);
+    }
+    // The cutting level set is linear along a cell edge (an edge of a sub-triangle).
+    auto node = [&](int corner) {
+      const int di = (corner == 1 || corner == 2) ? 1 : 0, dj = corner >= 2 ? 1 : 0;
+      return (j + dj) * (nx + 1) + (i + di);
+    };
+    const auto base = static_cast<std::size_t>(cut) * static_cast<std::size_t>(m.nodes);
+    const double p0 = m.node_phi[base + static_cast<std::size_t>(node(from))];
+    const double p1 = m.node_phi[base + static_cast<std::size_t>(node(to))];
+    const int s0 = xfem::side_of(p0), s1 = xfem::side_of(p1);
+    const PlateDiscontinuity::Kind kind = m.desc.discontinuities[static_cast<std::size_t>(cut)].kind;
+    auto has_material = [&](int side) { return !(kind == PlateDiscontinuity::Kind::hole && side < 0); };
+    if (s0 == s1) {
+      if (!has_material(s0)) return brk();
+      return add_segment(i, j, xi0, eta0, xi1, eta1, s0);
+    }
+    double xim = 0, etam = 0;
+    crossing(p0, p1, xi0, eta0, xi1, eta1, node(from), node(to), xim, etam);
+    const int lo = std::min(node(from), node(to)), hi = std::max(node(from), node(to));
+    if (has_material(s0)) {
+      add_segment(i, j, xi0, eta0, xim, etam, s0);
+      crossings[EdgeKey{0, lo, hi, s0}] = last;  // a void's boundary or a crack's face goes on from here
+    }
+    // A crack opens at the crossing: each face ends in a vertex of its own
+    // side. An inclusion's field is continuous there: the chain goes on.
+    if (kind != PlateDiscontinuity::Kind::inclusion) brk();
+    if (has_material(s1)) {
+      add_segment(i, j, xim, etam, xi1, eta1, s1);
+      crossings[EdgeKey{0, lo, hi, s1}] = out.segments.back().a;  // ... and ends here
+    }
+  }
+};
+
+inline double dot(const double a[2], const double b[2]) { return a[0] * b[0] + a[1] * b[1]; }
+
+}  // namespace
+
+BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double allowance, PlateBoundary& out) {
+  if (!m.built || m.desc.analysis != PlateDesc::Analysis::dynamic)
+    return BuildResult::failure(Code::invalid_argument, "continuum: the plate is not built as a %s analysis", "dynamic");
+  if (!(std::isfinite(max_radius) && max_radius > 0))
+    return BuildResult::failure(Code::invalid_argument, "dem.particles: the largest radius %g is not positive",
+                                max_radius);
+  if (!(std::isfinite(allowance) && allowance > 0))
+    return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a positive length", allowance);
+  out = PlateBoundary{};
+  const int nx = m.desc.cells[0], ny = m.desc.cells[1];
+  std::map<EdgeKey, int> crossings;
+  Walker w{m, out, crossings};
+  for (int i = 0; i < nx; ++i) w.edge(i, 0, 0, 1);             // bottom, left to right
+  for (int j = 0; j < ny; ++j) w.edge(nx - 1, j, 1, 2);        // right, upwards
+  for (int i = nx - 1; i >= 0; --i) w.edge(i, ny - 1, 2, 3);   // top, right to left
+  for (int j = ny - 1; j >= 0; --j) w.edge(0, j, 3, 0);        // left, downwards
+  // Close the loop where the walk ends where it started, unbroken there.
+  if (w.last >= 0 && w.first >= 0) {
+    PlateBoundaryVertex& end = out.vertices[static_cast<std::size_t>(w.last)];
+    const PlateBoundaryVertex& start = out.vertices[static_cast<std::size_t>(w.first)];
+    if (end.x[0] == start.x[0] && end.x[1] == start.x[1] && start.prev < 0) {
+      const int seg = end.prev;
+      out.segments[static_cast<std::size_t>(seg)].b = w.first;
+      out.vertices[static_cast<std::size_t>(w.first)].prev = seg;
+      out.vertices.pop_back();  // the duplicate was the last vertex added
+    }
+  }
+  // Void boundaries and free crack faces: in every sub-triangle of a cell cut
+  // by a void, the zero line of the cutting level set (linear there) is one
+  // segment, oriented with the material (φ ≥ 0) on its left; a free crack's
+  // line is two, one per face, each with its side's material on its left.
+  // Crossings are shared by edge and side, so the segments chain into loops,
+  // or into the outer chain where they reach the domain's edge.
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int cell = j * nx + i;
+      const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
+      if (cut < 0) continue;
+      const PlateDiscontinuity& q = m.desc.discontinuities[static_cast<std::size_t>(cut)];
+      const bool hole = q.kind == PlateDiscontinuity::Kind::hole;
+      // A free crack's two faces; tied or unilateral faces are held together.
+      const bool faces = q.kind == PlateDiscontinuity::Kind::crack && q.faces == PlateDiscontinuity::Faces::free;
+      if (!hole && !faces) continue;
+      int nodes[4];
+      for (int a = 0; a < 4; ++a) {
+        const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
+        nodes[a] = (j + dj) * (nx + 1) + (i + di);
+      }
+      const auto base = static_cast<std::size_t>(cut) * static_cast<std::size_t>(m.nodes);
+      double phi[5], mean = 0;
+      for (int a = 0; a < 4; ++a) mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>(nodes[a])]);
+      phi[4] = 0.25 * mean;
+      for (int t = 0; t < 4; ++t) {
+        // Triangle corners: cell corner t, corner t + 1, the centre (index 4).
+        const int corner[3] = {t, (t + 1) % 4, 4};
+        const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
+        int points = 0;
+        double cxi[2] = {0, 0}, ceta[2] = {0, 0};
+        EdgeKey keys[2];  // without the side yet
+        for (int e = 0; e < 3; ++e) {
+          const int a = e, b = (e + 1) % 3;
+          const double fa = phi[corner[a]], fb = phi[corner[b]];
+          if (xfem::side_of(fa) == xfem::side_of(fb) || points == 2) continue;
+          // Order the ends as the key does, so both cells (or triangles) agree.
+          const bool outer = corner[a] < 4 && corner[b] < 4;
+          const int ka = corner[a] < 4 ? nodes[corner[a]] : -1, kb = corner[b] < 4 ? nodes[corner[b]] : -1;
+          if (outer) {
+            crossing(fa, fb, pxi[a], peta[a], pxi[b], peta[b], ka, kb, cxi[points], ceta[points]);
+            keys[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb), 0};
+          } else {
+            // An inner edge: from its cell corner to the centre.
+            const int c = corner[a] < 4 ? a : b, z = corner[a] < 4 ? b : a;
+            crossing(phi[corner[c]], phi[4], pxi[c], peta[c], pxi[z], peta[z], 0, 1, cxi[points], ceta[points]);
+            keys[points] = EdgeKey{1, cell, corner[c], 0};
+          }
+          ++points;
+        }
+        if (points != 2) continue;
+        // φ's gradient on the triangle (parent coordinates, then physical);
+        // the direction with the material on the left is (g_y, −g_x).
+        const double x0 = pxi[0] - pxi[2], y0 = peta[0] - peta[2], x1 = pxi[1] - pxi[2], y1 = peta[1] - peta[2];
+        const double r0 = phi[corner[0]] - phi[4], r1 = phi[corner[1]] - phi[4];
+        const double det = x0 * y1 - x1 * y0;
+        const double gx = (r0 * y1 - r1 * y0) / det / m.cell_size[0], gy = (x0 * r1 - x1 * r0) / det / m.cell_size[1];
+        const double dx = (cxi[1] - cxi[0]) * m.cell_size[0], dy = (ceta[1] - ceta[0]) * m.cell_size[1];
+        // The + side's segment runs with its material (φ ≥ 0) on the left; a
+        // crack's − face runs the other way over the same line.
+        for (const int side : {1, -1}) {
+          if (side < 0 && !faces) break;
+          const int first = (dx * gy - dy * gx >= 0) == (side > 0) ? 0 : 1;
+          int ends[2];
+          for (int e = 0; e < 2; ++e) {
+            const int k = e == 0 ? first : 1 - first;
+            EdgeKey key = keys[k];
+            std::get<3>(key) = side;
+            const auto found = crossings.find(key);
+            ends[e] = found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, cxi[k], ceta[k], side));
+          }
+          if (ends[0] == ends[1]) continue;  // the line through a corner: no length
+          PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(ends[0])];
+          PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(ends[1])];
+          if (va.next >= 0 || vb.prev >= 0)
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) "
+                                        "(refine the mesh)",
+                                        cut, q.name.c_str(), i, j);
+          PlateBoundarySegment seg;
+          seg.a = ends[0], seg.b = ends[1], seg.cell[0] = i, seg.cell[1] = j, seg.side = side;
+          seg.xi[0] = cxi[first], seg.eta[0] = ceta[first], seg.xi[1] = cxi[1 - first], seg.eta[1] = ceta[1 - first];
+          out.segments.push_back(seg);
+          va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
+        }
+      }
+    }
+  // Bins: the domain grown by the reach, bins at least a reach wide.
+  out.allowance = allowance;
+  out.reach = max_radius + allowance;
+  const double h = std::max({m.cell_size[0], m.cell_size[1], 2.0 * out.reach});
+  out.bin_size = h;
+  for (int c = 0; c < 2; ++c) {
+    out.origin[c] = m.desc.min[c] - out.reach;
+    out.bins[c] = static_cast<int>(std::ceil((m.desc.max[c] - m.desc.min[c] + 2.0 * out.reach) / h)) + 1;
+  }
+  const auto nbins = static_cast<std::size_t>(out.bins[0]) * static_cast<std::size_t>(out.bins[1]);
+  std::vector<int> count(nbins + 1, 0);
+  auto for_bins = [&](const PlateBoundarySegment& s, auto&& visit) {
+    const PlateBoundaryVertex& a = out.vertices[static_cast<std::size_t>(s.a)];
+    const PlateBoundaryVertex& b = out.vertices[static_cast<std::size_t>(s.b)];
+    int lo[2], hi[2];
+    for (int c = 0; c < 2; ++c) {
+      lo[c] = std::max(0, static_cast<int>(std::floor((std::min(a.x[c], b.x[c]) - out.reach - out.origin[c]) / h)));
+      hi[c] = std::min(out.bins[c] - 1,
+                       static_cast<int>(std::floor((std::max(a.x[c], b.x[c]) + out.reach - out.origin[c]) / h)));
+    }
+    for (int bj = lo[1]; bj <= hi[1]; ++bj)
+      for (int bi = lo[0]; bi <= hi[0]; ++bi) visit(static_cast<std::size_t>(bj) * out.bins[0] + bi);
+  };
+  for (const PlateBoundarySegment& s : out.segments) for_bins(s, [&](std::size_t k) { ++count[k + 1]; });
+  for (std::size_t k = 0; k < nbins; ++k) count[k + 1] += count[k];
+  out.bin_start = count;
+  out.bin_items.assign(static_cast<std::size_t>(count[nbins]), 0);
+  std::vector<int> fill(count.begin(), count.end() - 1);
+  for (std::size_t k = 0; k < out.segments.size(); ++k)
+    for_bins(out.segments[k], [&](std::size_t bin) { out.bin_items[static_cast<std::size_t>(fill[bin]++)] = static_cast<int>(k); });
+  return BuildResult::success();
+}
+
+void plate_material_point_field(const PlateModel& m, const PlateMaterialPoint& at, const double* field,
+                                bool displacement, double out[2]) {
+  PlatePointBasis basis;
+  out[0] = out[1] = 0.0;
+  if (!plate_point_basis(m, at.cell[0], at.cell[1], at.xi, at.eta, at.side, basis)) return;
+  for (int f = 0; f < basis.count; ++f)
+    for (int c = 0; c < 2; ++c) {
+      const int dof = basis.dof[f][c];
+      out[c] += basis.n[f] * (dof >= 0 ? field[dof] : (displacement ? basis.held[f][c] : 0.0));
+    }
+}
+
+void plate_boundary_positions(const PlateModel& m, const PlateBoundary& b, const double* u, double* positions) {
+  const std::size_t nv = b.vertices.size();
+  for (std::size_t k = 0; k < nv; ++k) {
+    double d[2];
+    plate_material_point_field(m, b.vertices[k].at, u, true, d);
+    positions[2 * k] = b.vertices[k].x[0] + d[0];
+    positions[2 * k + 1] = b.vertices[k].x[1] + d[1];
+  }
+}
+
+bool plate_boundary_within_reach(const PlateBoundary& b, const double* positions) {
+  const std::size_t nv = b.vertices.size();
+  for (std::size_t k = 0; k < nv; ++k) {
+    const double dx = positions[2 * k] - b.vertices[k].x[0], dy = positions[2 * k + 1] - b.vertices[k].x[1];
+    if (!(dx * dx + dy * dy <= b.allowance * b.allowance)) return false;
+  }
+  return true;
+}
+
+int plate_boundary_contacts(const PlateBoundary& b, const double* positions, const double centre[2], double radius,
+                            PlateBoundaryContact out[kPlateBoundaryMaxContacts]) {
+  int bin[2];
+  for (int c = 0; c < 2; ++c) {
+    const double f = std::floor((centre[c] - b.origin[c]) / b.bin_size);
+    if (!(f >= 0 && f < b.bins[c])) return 0;
+    bin[c] = static_cast<int>(f);
+  }
+  const auto k = static_cast<std::size_t>(bin[1]) * static_cast<std::size_t>(b.bins[0]) + static_cast<std::size_t>(bin[0]);
+  auto at = [&](int v) { return positions + 2 * v; };
+  auto direction = [&](int s, double e[2]) {
+    const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(s)];
+    e[0] = at(seg.b)[0] - at(seg.a)[0];
+    e[1] = at(seg.b)[1] - at(seg.a)[1];
+  };
+  // Every feature in contact, in bin order: edges, then the vertices each
+  // segment starts (a chain's last vertex with the segment it ends).
+  auto for_each_candidate = [&](auto&& visit) {
+    for (int q = b.bin_start[k]; q < b.bin_start[k + 1]; ++q) {
+      const int s = b.bin_items[static_cast<std::size_t>(q)];
+      const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(s)];
+      double e[2];
+      direction(s, e);
+      const double from_a[2] = {centre[0] - at(seg.a)[0], centre[1] - at(seg.a)[1]};
+      const double from_b[2] = {centre[0] - at(seg.b)[0], centre[1] - at(seg.b)[1]};
+      const double len2 = dot(e, e);
+      // Edge: the projection strictly inside, the centre on the outer side.
+      if (len2 > 0 && dot(from_a, e) > 0 && dot(from_b, e) < 0) {
+        const double len = std::sqrt(len2);
+        const double n[2] = {e[1] / len, -e[0] / len};
+        const double gap = dot(from_a, n);
+        if (gap > 0 && gap < radius) {
+          PlateBoundaryContact c;
+          c.segment = s;
+          c.t = dot(from_a, e) / len2;
+          c.point[0] = centre[0] - gap * n[0];
+          c.point[1] = centre[1] - gap * n[1];
+          c.normal[0] = n[0], c.normal[1] = n[1];
+          c.overlap = radius - gap;
+          visit(c);
+        }
+      }
+      for (int end = 0; end < 2; ++end) {
+        const int v = end == 0 ? seg.a : seg.b;
+        const PlateBoundaryVertex& vx = b.vertices[static_cast<std::size_t>(v)];
+        if (end == 1 && vx.next >= 0) continue;
+        const double* d = end == 0 ? from_a : from_b;
+        // The Voronoi wedge: past the end of the segment before (the same
+        // product its edge test uses) and before the start of the one after,
+        // and outside at least one of their lines (the wedge of a concave
+        // vertex lies behind both: inside the material).
+        bool inside = true, outside = false;
+        for (int side = 0; side < 2 && inside; ++side) {
+          const int t = side == 0 ? vx.prev : vx.next;
+          if (t < 0) continue;
+          double et[2];
+          direction(t, et);
+          const double along = dot(d, et);
+          const double nt[2] = {et[1], -et[0]};
+          inside = side == 0 ? along >= 0 : along <= 0;
+          outside = outside || dot(d, nt) >= 0;
+        }
+        if (!inside || !outside) continue;
+        const double gap = std::sqrt(dot(d, d));
+        if (!(gap > 0 && gap < radius)) continue;
+        PlateBoundaryContact c;
+        c.segment = end == 0 ? vx.next : vx.prev;
+        c.vertex = v;
+        c.t = end == 0 ? 0.0 : 1.0;
+        c.point[0] = at(v)[0], c.point[1] = at(v)[1];
+        c.normal[0] = d[0] / gap, c.normal[1] = d[1] / gap;
+        c.overlap = radius - gap;
+        visit(c);
+      }
+    }
+  };
+  // The deepest feature (the first of equals), then the deepest of those more
+  // than 60° from every one kept, until none is left.
+  int kept = 0;
+  while (kept < kPlateBoundaryMaxContacts) {
+    bool found = false;
+    PlateBoundaryContact best;
+    for_each_candidate([&](const PlateBoundaryContact& c) {
+      for (int r = 0; r < kept; ++r)
+        if (!(dot(c.normal, out[r].normal) < 0.5)) return;
+      if (!found || c.overlap > best.overlap) best = c, found = true;
+    });
+    if (!found) break;
+    out[kept++] = best;
+  }
+  return kept;
+}
+
+PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& b, const PlateBoundaryContact& c) {
+  if (c.vertex >= 0) return b.vertices[static_cast<std::size_t>(c.vertex)].at;
+  const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(c.segment)];
+  PlateMaterialPoint p;
+  p.cell[0] = s.cell[0], p.cell[1] = s.cell[1], p.side = s.side;
+  p.xi = s.xi[0] + c.t * (s.xi[1] - s.xi[0]);
+  p.eta = s.eta[0] + c.t * (s.eta[1] - s.eta[0]);
+  return p;
+}
+
+void plate_spread_force(const PlateModel& m, const PlateMaterialPoint& at, const double force[2], double* f) {
+  PlatePointBasis basis;
+  if (!plate_point_basis(m, at.cell[0], at.cell[1], at.xi, at.eta, at.side, basis)) return;
+  for (int q = 0; q < basis.count; ++q)
+    for (int c = 0; c < 2; ++c)
+      if (basis.dof[q][c] >= 0) f[basis.dof[q][c]] += basis.n[q] * force[c];
+}
+
+}  // namespace xfdem

@@ -1,0 +1,363 @@
+// The plate's boundary for disk contact: the outer edges as a closed chain
+// (broken at a crack's mouth), the closest point of a disk against the
+// brute-force distance to every segment, one contact with a continuous
+// overlap across joints (flat and bent), and the spreading of a contact
+// force to the plate's unknowns: for every rigid motion the generalised
+// forces do the work the force does at the contact point (force and moment).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "xfdem/coupling/plate_boundary.hpp"
+#include "xfdem/plate.hpp"
+
+using namespace xfdem;
+
+namespace {
+
+PlateDesc free_plate(int nx, int ny) {
+  PlateDesc d;
+  d.plane = PlateDesc::Plane::strain;
+  d.youngs_modulus = 2e11;
+  d.poisson_ratio = 0.3;
+  d.density = 7800.0;
+  d.min[0] = 0, d.min[1] = 0, d.max[0] = 2, d.max[1] = 1;
+  d.cells[0] = nx, d.cells[1] = ny;
+  d.dt = 1e-4;
+  return d;
+}
+
+PlateDiscontinuity vertical_crack(double x) {
+  PlateDiscontinuity q;
+  q.name = "c1";
+  q.kind = PlateDiscontinuity::Kind::crack;
+  q.shape = PlateDiscontinuity::Shape::polyline;
+  q.points = {{x, -0.2}, {x, 1.2}};
+  return q;
+}
+
+PlateDiscontinuity circular_void(double x, double y, double r) {
+  PlateDiscontinuity q;
+  q.name = "hole";
+  q.kind = PlateDiscontinuity::Kind::hole;
+  q.shape = PlateDiscontinuity::Shape::circle;
+  q.centre[0] = x, q.centre[1] = y;
+  q.radius = r;
+  return q;
+}
+
+struct Built {
+  PlateModel model;
+  PlateState state;
+  PlateWorkspace workspace;
+  PlateBoundary boundary;
+  std::vector<double> positions;
+};
+
+void build(const PlateDesc& d, double radius, Built& b) {
+  const BuildResult r = build_plate(d, b.model, b.state, b.workspace);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const BuildResult rb = plate_boundary_build(b.model, radius, 0.1, b.boundary);
+  ASSERT_TRUE(rb.ok()) << rb.message;
+  b.positions.assign(2 * b.boundary.vertices.size(), 0.0);
+  plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.positions.data());
+}
+
+/// The 4 × 2 free plate with a vertical crack through it (x = 1.05).
+void build_cracked(Built& b) {
+  PlateDesc d = free_plate(4, 2);
+  d.discontinuities.push_back(vertical_crack(1.05));
+  build(d, 0.05, b);
+}
+
+/// Distance from c to the segment [p, q] (closed form, by clamping).
+double segment_distance(const double c[2], const double* p, const double* q) {
+  const double e[2] = {q[0] - p[0], q[1] - p[1]};
+  const double t = std::clamp(((c[0] - p[0]) * e[0] + (c[1] - p[1]) * e[1]) / (e[0] * e[0] + e[1] * e[1]), 0.0, 1.0);
+  return std::hypot(c[0] - p[0] - t * e[0], c[1] - p[1] - t * e[1]);
+}
+
+}  // namespace
+
+TEST(PlateBoundary, OuterEdgesAreOneClosedChainWithOutwardNormals) {
+  Built b;
+  build(free_plate(4, 2), 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  ASSERT_EQ(pb.segments.size(), 12u);  // 2 (nx + ny) cell edges
+  ASSERT_EQ(pb.vertices.size(), 12u);  // closed: as many vertices as segments
+  double perimeter = 0, area2 = 0;
+  for (std::size_t s = 0; s < pb.segments.size(); ++s) {
+    const PlateBoundarySegment& seg = pb.segments[s];
+    EXPECT_EQ(pb.vertices[static_cast<std::size_t>(seg.a)].next, static_cast<int>(s));
+    EXPECT_EQ(pb.vertices[static_cast<std::size_t>(seg.b)].prev, static_cast<int>(s));
+    const double* a = pb.vertices[static_cast<std::size_t>(seg.a)].x;
+    const double* c = pb.vertices[static_cast<std::size_t>(seg.b)].x;
+    perimeter += std::hypot(c[0] - a[0], c[1] - a[1]);
+    area2 += a[0] * c[1] - c[0] * a[1];
+  }
+  EXPECT_DOUBLE_EQ(perimeter, 6.0);
+  EXPECT_DOUBLE_EQ(0.5 * area2, 2.0);  // counter-clockwise: material on the left
+}
+
+TEST(PlateBoundary, AVoidIsAClosedClockwiseLoopOnItsCircle) {
+  // A void well inside: one loop of its own (material on the left walks it
+  // clockwise) whose vertices lie on the cut cells' piecewise-linear level
+  // set, within O(h²/r) of the circle.
+  PlateDesc d = free_plate(16, 8);
+  const double xc = 1.03, yc = 0.49, r = 0.27;
+  d.discontinuities.push_back(circular_void(xc, yc, r));
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  double area2 = 0, off = 0;
+  int loop = 0;
+  for (std::size_t s = 48; s < pb.segments.size(); ++s) {  // after the 2 (16 + 8) outer edges
+    const PlateBoundarySegment& seg = pb.segments[s];
+    const double* a = pb.vertices[static_cast<std::size_t>(seg.a)].x;
+    const double* c = pb.vertices[static_cast<std::size_t>(seg.b)].x;
+    area2 += a[0] * c[1] - c[0] * a[1];
+    off = std::max(off, std::fabs(std::hypot(a[0] - xc, a[1] - yc) - r));
+    ++loop;
+  }
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    EXPECT_GE(v.prev, 0);
+    EXPECT_GE(v.next, 0);
+  }
+  const double h = 0.125;
+  std::printf("void loop: %d segments, area %.5f (circle %.5f), vertices within %.3g m of the circle\n", loop,
+              -0.5 * area2, M_PI * r * r, off);
+  EXPECT_EQ(pb.vertices.size(), pb.segments.size());  // every chain closed
+  EXPECT_LT(0.5 * area2, 0.0);                        // clockwise
+  EXPECT_LT(off, h * h / r);
+  EXPECT_NEAR(-0.5 * area2, M_PI * r * r, 0.5 * M_PI * h * h);  // perimeter × h²/(4r)
+}
+
+/// Signed areas (shoelace) of the boundary's closed chains, in the order of
+/// their first vertex; 0 if a chain is open.
+std::vector<double> loop_areas(const PlateBoundary& pb) {
+  std::vector<char> seen(pb.vertices.size(), 0);
+  std::vector<double> areas;
+  for (std::size_t start = 0; start < pb.vertices.size(); ++start) {
+    if (seen[start]) continue;
+    double area2 = 0;
+    std::size_t v = start;
+    bool closed = true;
+    do {
+      seen[v] = 1;
+      const int s = pb.vertices[v].next;
+      if (s < 0) {
+        closed = false;
+        break;
+      }
+      const auto w = static_cast<std::size_t>(pb.segments[static_cast<std::size_t>(s)].b);
+      area2 += pb.vertices[v].x[0] * pb.vertices[w].x[1] - pb.vertices[w].x[0] * pb.vertices[v].x[1];
+      v = w;
+    } while (v != start);
+    areas.push_back(closed ? 0.5 * area2 : 0.0);
+  }
+  return areas;
+}
+
+TEST(PlateBoundary, AFreeCrackSplitsTheBoundaryIntoTwoLoopsAndItsMouthOpens) {
+  // A straight crack through the plate: its level set is linear, so the faces
+  // are the crack's line and the two pieces' loops enclose the two
+  // trapezoids exactly.
+  PlateDesc d = free_plate(8, 4);
+  PlateDiscontinuity q = vertical_crack(0.0);
+  q.points = {{0.93, -0.2}, {1.11, 1.2}};
+  d.discontinuities.push_back(q);
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  EXPECT_EQ(pb.vertices.size(), pb.segments.size());  // every chain closed
+  const std::vector<double> areas = loop_areas(pb);
+  ASSERT_EQ(areas.size(), 2u);
+  const double x0 = 0.93 + 0.18 * 0.2 / 1.4, x1 = 0.93 + 0.18 * 1.2 / 1.4;  // the crack at y = 0 and y = 1
+  const double left = 0.5 * (x0 + x1);
+  std::printf("two loops: areas %.15f and %.15f (trapezoids %.15f and %.15f)\n", areas[0], areas[1], left, 2 - left);
+  EXPECT_NEAR(areas[0], left, 1e-14);
+  EXPECT_NEAR(areas[1], 2.0 - left, 1e-14);
+  // Open the crack (the x of every Heaviside unknown): the faces part.
+  std::vector<double> u(static_cast<std::size_t>(b.model.dofs), 0.0);
+  for (int n = 0; n < b.model.nodes; ++n)
+    for (int s = 0; s < 2; ++s) {
+      if (b.model.node_enrichment[static_cast<std::size_t>(2 * n + s)] < 0) continue;
+      const int dof = b.model.enriched_dof[static_cast<std::size_t>(2 * (2 * n + s))];
+      if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-3;
+    }
+  plate_boundary_positions(b.model, b.boundary, u.data(), b.positions.data());
+  double worst = 0;
+  int faces = 0;
+  for (const PlateBoundarySegment& s : pb.segments) {
+    if (s.side > 0 || pb.vertices[static_cast<std::size_t>(s.a)].at.side > 0) continue;
+    ++faces;
+    // ψ = H − H(x_a) with H = ±1: the − face moves by −2·1e-3 relative to the
+    // + face; each face's vertices move with their own side's field.
+    for (const int v : {s.a, s.b}) {
+      const auto k = static_cast<std::size_t>(v);
+      const PlateBoundaryVertex& vx = pb.vertices[k];
+      double du[2];
+      plate_material_point_field(b.model, vx.at, u.data(), true, du);
+      PlateMaterialPoint other = vx.at;
+      other.side = 1;
+      double dp[2];
+      plate_material_point_field(b.model, other, u.data(), true, dp);
+      worst = std::max(worst, std::fabs((dp[0] - du[0]) - 2e-3));
+      EXPECT_EQ(b.positions[2 * k], vx.x[0] + du[0]);
+    }
+  }
+  std::printf("- face segments %d, jump across the faces within %.3g m of 2e-3 m\n", faces, worst);
+  EXPECT_GT(faces, 4);
+  EXPECT_LT(worst, 1e-18);
+}
+
+TEST(PlateBoundary, ClosestPointMatchesTheDistanceToEverySegment) {
+  PlateDesc d = free_plate(10, 6);
+  d.discontinuities.push_back(vertical_crack(0.55));
+  d.discontinuities.push_back(circular_void(1.32, 0.52, 0.3));
+  Built b;
+  const double radius = 0.07;
+  build(d, radius, b);
+  // Bend the boundary a little (a smooth field), so that joints are not flat.
+  for (std::size_t v = 0; v < b.boundary.vertices.size(); ++v) {
+    const double x = b.boundary.vertices[v].x[0], y = b.boundary.vertices[v].x[1];
+    b.positions[2 * v] += 0.004 * std::sin(3 * y + x);
+    b.positions[2 * v + 1] += 0.004 * std::cos(5 * x);
+  }
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> ux(-0.1, 2.1), uy(-0.1, 1.1);
+  int touching = 0, voids = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double c[2] = {ux(rng), uy(rng)};
+    // Outside the material only (inside, contact is not defined by the
+    // closest point): beyond the bent outer boundary (it moves by at most
+    // 0.004 m), or well inside the void (its cut-cell boundary is within
+    // about h²/(8r) = 0.01 m of the circle).
+    const bool in_void = std::hypot(c[0] - 1.32, c[1] - 0.52) < 0.3 - 0.03;
+    if (!in_void && c[0] > -0.01 && c[0] < 2.01 && c[1] > -0.01 && c[1] < 1.01) continue;
+    voids += in_void ? 1 : 0;
+    double nearest = INFINITY;
+    for (const PlateBoundarySegment& s : b.boundary.segments)
+      nearest = std::min(nearest, segment_distance(c, &b.positions[2 * static_cast<std::size_t>(s.a)],
+                                                   &b.positions[2 * static_cast<std::size_t>(s.b)]));
+    PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+    const int n = plate_boundary_contacts(b.boundary, b.positions.data(), c, radius, contacts);
+    if (nearest >= radius) {
+      EXPECT_EQ(n, 0) << c[0] << " " << c[1];
+      continue;
+    }
+    // Points outside but beside the crack's mouth or a corner: the deepest
+    // contact is the nearest point of the boundary.
+    ASSERT_GE(n, 1) << c[0] << " " << c[1] << " nearest " << nearest;
+    ++touching;
+    EXPECT_NEAR(contacts[0].overlap, radius - nearest, 1e-14);
+    EXPECT_NEAR(std::hypot(c[0] - contacts[0].point[0], c[1] - contacts[0].point[1]), nearest, 1e-14);
+  }
+  std::printf("contacts checked against the brute-force distance: %d (centres in the void: %d)\n", touching, voids);
+  EXPECT_GT(touching, 500);
+  EXPECT_GT(voids, 500);
+}
+
+TEST(PlateBoundary, OneContactWithContinuousOverlapAcrossJoints) {
+  Built b;
+  const double radius = 0.1;
+  build(free_plate(20, 2), radius, b);
+  // A sag under the disk: the top's vertices pushed down by a smooth bump
+  // (every joint under the disk concave) or up (convex).
+  for (const double sign : {-1.0, 1.0}) {
+    for (std::size_t v = 0; v < b.boundary.vertices.size(); ++v) {
+      const double x = b.boundary.vertices[v].x[0], y = b.boundary.vertices[v].x[1];
+      b.positions[2 * v] = x;
+      b.positions[2 * v + 1] = y + (y == 1.0 ? sign * 1e-3 * std::exp(-std::pow((x - 1.0) / 0.3, 2)) : 0.0);
+    }
+    const double height = 1.0 + 0.095;
+    double worst_jump = 0, previous = -1;
+    int worst_count = 1;
+    const int samples = 40001;
+    for (int k = 0; k < samples; ++k) {
+      const double c[2] = {0.5 + 1.0 * k / (samples - 1), height};
+      PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+      const int n = plate_boundary_contacts(b.boundary, b.positions.data(), c, radius, contacts);
+      worst_count = std::max(worst_count, n);
+      ASSERT_GE(n, 1);
+      if (previous >= 0) worst_jump = std::max(worst_jump, std::fabs(contacts[0].overlap - previous));
+      previous = contacts[0].overlap;
+    }
+    // The step between samples is 2.5e-5 m; the surface's slope is below
+    // 1e-3·2/0.3·e^{-1/2} ≈ 4e-3, so a continuous overlap moves by < 1e-7.
+    std::printf("bump %+g: largest change of overlap between samples %.3g m, most contacts %d\n", sign, worst_jump,
+                worst_count);
+    EXPECT_LT(worst_jump, 1e-7);
+    EXPECT_EQ(worst_count, 1);
+  }
+  // Exactly over a flat joint (the sag removed): one vertex contact whose
+  // normal is the surface's.
+  plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.positions.data());
+  const double c[2] = {1.0, 1.05};
+  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+  ASSERT_EQ(plate_boundary_contacts(b.boundary, b.positions.data(), c, radius, contacts), 1);
+  EXPECT_GE(contacts[0].vertex, 0);
+  EXPECT_EQ(contacts[0].normal[0], 0.0);
+  EXPECT_EQ(contacts[0].normal[1], 1.0);
+  EXPECT_NEAR(contacts[0].overlap, 0.05, 1e-15);
+}
+
+TEST(PlateBoundary, ACornerIsAVertexContactAlongTheDiagonal) {
+  Built b;
+  build(free_plate(4, 2), 0.1, b);
+  const double c[2] = {2.03, 1.04};
+  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+  ASSERT_EQ(plate_boundary_contacts(b.boundary, b.positions.data(), c, 0.1, contacts), 1);
+  EXPECT_GE(contacts[0].vertex, 0);
+  EXPECT_NEAR(contacts[0].overlap, 0.1 - 0.05, 1e-15);
+  // c − corner = (0.03, 0.04) from coordinates near 2: each carries 2.2e-16
+  // of round-off, 1e-14 of the 0.05 m it is divided by.
+  EXPECT_NEAR(contacts[0].normal[0], 0.6, 2e-14);
+  EXPECT_NEAR(contacts[0].normal[1], 0.8, 2e-14);
+}
+
+TEST(PlateBoundary, SpreadForceCarriesTheForceAndItsMomentToTheUnknowns) {
+  // A free plate with a crack (Heaviside-enriched nodes on both sides of it):
+  // for each rigid motion w (two translations, a rotation about the origin),
+  // with the enriched unknowns at zero, Σ f·w over the unknowns must be F·w
+  // at the contact point's reference position.
+  Built b;
+  build_cracked(b);
+  const PlateModel& m = b.model;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  double worst = 0;
+  int enriched_touched = 0;
+  for (std::size_t s = 0; s < b.boundary.segments.size(); ++s) {
+    PlateBoundaryContact c;
+    c.segment = static_cast<int>(s);
+    c.t = uni(rng);
+    const PlateMaterialPoint at = plate_boundary_material_point(b.boundary, c);
+    const double force[2] = {uni(rng) - 0.5, uni(rng) - 0.5};
+    std::vector<double> f(static_cast<std::size_t>(m.dofs), 0.0);
+    plate_spread_force(m, at, force, f.data());
+    const double px = m.desc.min[0] + m.cell_size[0] * (at.cell[0] + 0.5 * (1 + at.xi));
+    const double py = m.desc.min[1] + m.cell_size[1] * (at.cell[1] + 0.5 * (1 + at.eta));
+    double sum[3] = {0, 0, 0};
+    for (int n = 0; n < m.nodes; ++n) {
+      const double x = m.desc.min[0] + m.cell_size[0] * (n % (m.desc.cells[0] + 1));
+      const double y = m.desc.min[1] + m.cell_size[1] * (n / (m.desc.cells[0] + 1));
+      const int dx = m.node_dof[static_cast<std::size_t>(2 * n)], dy = m.node_dof[static_cast<std::size_t>(2 * n + 1)];
+      sum[0] += f[static_cast<std::size_t>(dx)];
+      sum[1] += f[static_cast<std::size_t>(dy)];
+      sum[2] += x * f[static_cast<std::size_t>(dy)] - y * f[static_cast<std::size_t>(dx)];
+    }
+    for (const int e : m.enriched_dof)
+      if (e >= 0 && f[static_cast<std::size_t>(e)] != 0.0) ++enriched_touched;
+    const double moment = px * force[1] - py * force[0];
+    worst = std::max({worst, std::fabs(sum[0] - force[0]), std::fabs(sum[1] - force[1]), std::fabs(sum[2] - moment)});
+  }
+  std::printf("largest error of force and moment: %.3g (N, N·m); enriched shares touched: %d\n", worst,
+              enriched_touched);
+  EXPECT_LT(worst, 1e-15);
+  EXPECT_GT(enriched_touched, 0);  // the crack's cells do load their enriched unknowns
+}
