@@ -3,7 +3,7 @@
 // the exact path takes, ties at the 17th digit (dyadic fractions with 18
 // significant digits), the neighbours of every power of ten where the
 // exponent and the choice of style change, and the values std::to_chars
-// takes (subnormals, infinities, NaN), and zeros of both signs.
+// takes (zeros, subnormals, infinities, NaN).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,6 @@
 #include "scene/number_text.hpp"
 
 #include <charconv>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -91,12 +90,6 @@ bool digits17(double value, char (&digits)[17], int& exponent) {
 }  // namespace
 
 char* write_g17(char* out, double value) {
-  if (value == 0) {  // "0", "-0" (a probe of a contact that is open)
-    char* p = out;
-    if (std::signbit(value)) *p++ = '-';
-    *p++ = '0';
-    return p;
-  }
   char digits[17];
   int x = 0;
   const bool negative = value < 0;
