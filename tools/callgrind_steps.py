@@ -32,8 +32,7 @@ FUNCTIONS = [
     ("  bar_adjust_step_input", "xfdem::bar_adjust_step_input("),
     ("  bar_resolve_acceleration", "xfdem::bar_resolve_acceleration("),
     ("  copies of the particles' state", "xfdem::DemState<1>::operator=(xfdem::DemState<1> const&)"),
-    ("CSV numbers (write_g17)", "xfdem::scene::write_g17("),
-    ("  of which std::to_chars", "std::to_chars("),
+    ("CSV numbers (to_chars)", "std::to_chars("),
 ]
 SELF = {"    Newmark loops (self)"}
 

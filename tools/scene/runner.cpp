@@ -8,7 +8,6 @@
 #include "xfdem/coupled.hpp"
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
-#include "scene/number_text.hpp"
 #include "scene/vtk.hpp"
 
 #include <memory>
@@ -36,12 +35,16 @@ std::string dem_stages(const DemModel<D>& m, const DemState<D>& s, const DemProf
   return text;
 }
 
-/// Appends printf's "%.17g" of value, which reads back bit-exact, without
-/// printf's locale and multi-precision work (scene/number_text.hpp): a long
-/// run's CSV notices.
+/// The longest "%.17g" text: sign, 17 digits, point, "e-308".
+constexpr std::size_t kValueChars = 25;
+
+/// Appends printf's "%.17g" text of value (the standard defines to_chars by
+/// it), which reads back bit-exact, without printf's locale and
+/// multi-precision work: a long run's CSV notices.
 void append_value(std::string& line, double value) {
-  char text[kG17Chars];
-  line.append(text, write_g17(text, value));
+  char text[kValueChars];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof(text), value, std::chars_format::general, 17);
+  line.append(text, r.ptr);
 }
 
 /// The particles of a scene without a continuum.
@@ -221,7 +224,7 @@ RunSummary run_system(const Scene& scene, System& system, std::ostream& csv, Vtk
   // A row is put together in `line` and written at once (a stream's operator<<
   // per separator costs more than the number's text).
   std::string line;
-  line.reserve((scene.probes.size() + 1) * (kG17Chars + 1));
+  line.reserve((scene.probes.size() + 1) * (kValueChars + 1));
   auto row = [&](std::int64_t step) {
     line.clear();
     append_value(line, static_cast<double>(step) * scene.dt);
