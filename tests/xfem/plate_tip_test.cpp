@@ -81,3 +81,143 @@ TEST(PlateTip, WilliamsFieldsGiveTheirStressIntensityFactors) {
     EXPECT_TRUE(std::isnan(k[0]) && std::isnan(k[1]));
   }
 }
+
+namespace {
+
+/// Relative energy-norm error of the plate's stress against the Williams field
+/// of (k1, k2) over the square: e² = ∫ (σ_h − σ)ᵀ C (σ_h − σ) dA / ∫ σᵀ C σ dA
+/// (C = D⁻¹), on the test's own quadrature: the tip's cell fanned from the
+/// tip (5 × 5 rule collapsed there, 3 splits per edge), every other cell or
+/// half cell (the crack runs through the middle of its row) 5 × 5 Gauss.
+double energy_norm_error(const PlateModel& m, const PlateState& st, double k1, double k2) {
+  const PlateDesc& d = m.desc;
+  const double g[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
+  const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                       0.2369268850561891};
+  // Compliance of plane strain: ε = C σ, ε = (ε_xx, ε_yy, γ_xy).
+  const double e = d.youngs_modulus, nu = d.poisson_ratio, g_mod = e / (2 * (1 + nu));
+  auto energy = [&](const double s[3]) {
+    const double exx = ((1 - nu * nu) * s[0] - nu * (1 + nu) * s[1]) / e;
+    const double eyy = ((1 - nu * nu) * s[1] - nu * (1 + nu) * s[0]) / e;
+    return s[0] * exx + s[1] * eyy + s[2] * s[2] / g_mod;
+  };
+  double err = 0.0, norm = 0.0;
+  auto add = [&](double x, double y, double weight) {
+    const xfem::WilliamsField wf = williams_at(d, k1, k2, x, y);
+    double diff[3];
+    for (int c = 0; c < 3; ++c) diff[c] = plate_stress(m, st, x, y, c) - wf.stress[c];
+    err += weight * energy(diff);
+    norm += weight * energy(wf.stress);
+  };
+  const int n = d.cells[0];
+  const double h = (d.max[0] - d.min[0]) / n;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x0 = node_x(d, i), x1 = node_x(d, i + 1), y0 = node_y(d, j), y1 = node_y(d, j + 1);
+      if (x0 < 0.0 && x1 > 0.0 && y0 < 0.0 && y1 > 0.0) {  // the tip's cell
+        const xfem::Point2 poly[5] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, 0.0}};
+        xfem::TrianglePiece fan[15];
+        const int count = xfem::fan_from_tip(poly, 5, {0.0, 0.0}, 3, 1, fan);
+        for (int p = 0; p < count; ++p) {
+          const xfem::Point2* v = fan[p].v;
+          const double e1x = v[1][0] - v[0][0], e1y = v[1][1] - v[0][1], e2x = v[2][0] - v[1][0], e2y = v[2][1] - v[1][1];
+          const double jac = std::fabs(e1x * e2y - e1y * e2x);
+          for (int a = 0; a < 5; ++a)
+            for (int b = 0; b < 5; ++b) {
+              const double s = 0.5 * (1 + g[a]), t = 0.5 * (1 + g[b]);
+              add(v[0][0] + s * e1x + s * t * e2x, v[0][1] + s * e1y + s * t * e2y, 0.25 * w[a] * w[b] * s * jac);
+            }
+        }
+        continue;
+      }
+      const bool cut = y0 < 0.0 && y1 > 0.0;
+      for (int half = 0; half < (cut ? 2 : 1); ++half) {
+        const double ya = cut ? (half == 0 ? y0 : 0.0) : y0, yb = cut ? (half == 0 ? 0.0 : y1) : y1;
+        for (int a = 0; a < 5; ++a)
+          for (int b = 0; b < 5; ++b)
+            add(0.5 * (x0 + x1) + 0.5 * h * g[a], 0.5 * (ya + yb) + 0.5 * (yb - ya) * g[b], 0.25 * w[a] * w[b] * h * (yb - ya));
+      }
+    }
+  return std::sqrt(err / norm);
+}
+
+}  // namespace
+
+// The energy norm of the error against mesh size (mode I Williams field on the
+// boundary): enrichment of the tip cell's nodes only (topological) leaves the
+// √r singularity to the standard functions outside that cell, and the rate
+// falls to about 1/2; every node within a fixed radius (0.2 here) restores
+// the optimal rate 1 of bilinear elements (Béchet et al. 2005; Laborde et al. 2005).
+TEST(PlateTip, EnergyNormConvergesSuboptimallyTopologicalOptimallyGeometric) {
+  const int meshes[4] = {9, 17, 33, 65};
+  double err[2][4];
+  for (int kind = 0; kind < 2; ++kind)
+    for (int s = 0; s < 4; ++s) {
+      PlateDesc d = williams_square(meshes[s], 1e6, 0.0, kind == 0 ? 0.0 : 0.2);
+      PlateModel m;
+      PlateState st;
+      PlateWorkspace ws;
+      const BuildResult r = build_plate(d, m, st, ws);
+      ASSERT_TRUE(r.ok()) << r.message;
+      err[kind][s] = energy_norm_error(m, st, 1e6, 0.0);
+    }
+  double rate[2][3];
+  for (int kind = 0; kind < 2; ++kind) {
+    std::printf("%s enrichment: energy-norm error", kind == 0 ? "topological" : "geometric (r = 0.2)");
+    for (int s = 0; s < 4; ++s) std::printf(" %.4e", err[kind][s]);
+    std::printf("; rates");
+    for (int s = 0; s < 3; ++s) {
+      // h halves up to the odd counts: the rate in h = 2/n.
+      rate[kind][s] = std::log(err[kind][s] / err[kind][s + 1]) / std::log(static_cast<double>(meshes[s + 1]) / meshes[s]);
+      std::printf(" %.3f", rate[kind][s]);
+    }
+    std::printf("\n");
+  }
+  EXPECT_GT(rate[0][2], 0.4);
+  EXPECT_LT(rate[0][2], 0.6);
+  EXPECT_GT(rate[1][2], 0.9);
+  EXPECT_LT(err[1][3], err[0][3]);
+}
+
+// An edge crack of length a in a strip of width W under tension σ (long: the
+// height is 6W, the crack at mid-height, the far ends a roller and the
+// traction): K_I = σ √(πa) F(a/W), Tada's F = 1.12 − 0.231 α + 10.55 α² −
+// 21.72 α³ + 30.39 α⁴ (within 0.5 % for α ≤ 0.6; Tada, Paris and Irwin).
+TEST(PlateTip, EdgeCrackInAStripFollowsTada) {
+  const double sigma = 1e6, width = 1.0;
+  for (double alpha : {0.2, 0.3, 0.4, 0.5, 0.6}) {
+    PlateDesc d;
+    d.plane = PlateDesc::Plane::strain;
+    d.youngs_modulus = kE, d.poisson_ratio = kNu, d.density = 7800, d.thickness = 1.0;
+    d.analysis = PlateDesc::Analysis::statics;
+    d.min[0] = 0.0, d.min[1] = 0.0, d.max[0] = width, d.max[1] = 6.0 * width;
+    d.cells[0] = 40, d.cells[1] = 240;
+    const double h = width / d.cells[0], yc = 3.0 * width + 0.5 * h;  // the crack through the middle of a row
+    d.tip_radius = 0.1 * width;
+    PlateDiscontinuity c;
+    c.name = "edge";
+    c.points = {{-0.5 * width, yc}, {alpha * width, yc}};
+    d.discontinuities.push_back(c);
+    PlateSupport roller;
+    roller.edge = PlateEdge::bottom;
+    roller.fix[1] = true;
+    d.supports.push_back(roller);
+    d.prescribed.push_back({{0.0, 0.0}, {0.0, 0.0}});
+    PlateLoad pull;
+    pull.edge = PlateEdge::top;
+    pull.value[1] = sigma;
+    d.loads.push_back(pull);
+    PlateModel m;
+    PlateState st;
+    PlateWorkspace ws;
+    const BuildResult r = build_plate(d, m, st, ws);
+    ASSERT_TRUE(r.ok()) << r.message;
+    double k[2];
+    plate_stress_intensity(m, st, 0, true, 0.15 * width, k);
+    const double f = 1.12 - 0.231 * alpha + 10.55 * alpha * alpha - 21.72 * std::pow(alpha, 3) + 30.39 * std::pow(alpha, 4);
+    const double exact = sigma * std::sqrt(std::numbers::pi * alpha * width) * f;
+    std::printf("a/W %.1f: K_I %.6g, Tada %.6g (F %.4f), error %.3e; K_II/K_I %.2e\n", alpha, k[0], exact, f,
+                (k[0] - exact) / exact, k[1] / k[0]);
+    EXPECT_NEAR(k[0], exact, 0.01 * exact);
+  }
+}
