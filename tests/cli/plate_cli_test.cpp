@@ -249,12 +249,8 @@ TEST(PlateCli, CrackTipDynamicRunIsTheSameOnOneAndTwoWorkers) {
   EXPECT_EQ(lines(a).size(), 22u);
 }
 
-struct TipBadInput {
-  const char* args;
-  const char* must_mention;
-};
-
-class PlateTipCliRejects : public ::testing::TestWithParam<TipBadInput> {};
+// The same refusals on the edge-crack scene.
+class PlateTipCliRejects : public ::testing::TestWithParam<PlateBadInput> {};
 
 TEST_P(PlateTipCliRejects, WithTheKeyNamedAndNoOutput) {
   const fs::path csv = scratch() / "never_tip.csv";
@@ -268,15 +264,15 @@ TEST_P(PlateTipCliRejects, WithTheKeyNamedAndNoOutput) {
 INSTANTIATE_TEST_SUITE_P(
     BadValues, PlateTipCliRejects,
     ::testing::Values(
-        TipBadInput{"--set output.probes.0.tip=start",
+        PlateBadInput{"--set output.probes.0.tip=start",
                     "scene key 'output.probes.0.tip': the start of crack 'edge' at (-0.5, "},
-        TipBadInput{"--set output.probes.0.tip=middle", "scene key 'output.probes.0.tip': 'middle' is not one of"},
-        TipBadInput{"--set output.probes.0.mode=III", "scene key 'output.probes.0.mode': 'III' is not one of"},
-        TipBadInput{"--set continuum.cells=[4,24]",
+        PlateBadInput{"--set output.probes.0.tip=middle", "scene key 'output.probes.0.tip': 'middle' is not one of"},
+        PlateBadInput{"--set output.probes.0.mode=III", "scene key 'output.probes.0.mode': 'III' is not one of"},
+        PlateBadInput{"--set continuum.cells=[4,24]",
                     "scene key 'output.probes.0.tip': the end tip of crack 'edge' is 0.4"},
-        TipBadInput{"--set continuum.cells=[4,24]",
+        PlateBadInput{"--set continuum.cells=[4,24]",
                     "interaction integral's domain (4 cells, 1 m) must stay inside the plate"},
-        TipBadInput{"--set continuum.tip_enrichment.radius=x", "scene key 'continuum.tip_enrichment.radius'"},
-        TipBadInput{"--set continuum.cells=[100,600] --set continuum.tip_enrichment.radius=10",
+        PlateBadInput{"--set continuum.tip_enrichment.radius=x", "scene key 'continuum.tip_enrichment.radius'"},
+        PlateBadInput{"--set continuum.cells=[100,600] --set continuum.tip_enrichment.radius=10",
                     "scene key 'continuum.max_enriched_dofs': the discontinuities need"},
-        TipBadInput{"--set continuum.tip_enrichment.size=1", "scene key 'continuum.tip_enrichment.size': unknown key"}));
+        PlateBadInput{"--set continuum.tip_enrichment.size=1", "scene key 'continuum.tip_enrichment.size': unknown key"}));

@@ -244,16 +244,25 @@ PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gra
   return d;
 }
 
+namespace {
+
+/// The index of the crack the probe's "crack" names (refused when there is none).
+int probe_crack(ObjectReader& p, const PlateDesc& d, std::string& name) {
+  name = p.text("crack");
+  for (std::size_t k = 0; k < d.discontinuities.size(); ++k)
+    if (d.discontinuities[k].name == name && d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack)
+      return static_cast<int>(k);
+  p.fail("crack", "no crack named '" + name + "' in continuum.discontinuities");
+}
+
+}  // namespace
+
 void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   const std::string quantity = p.choice("quantity", {"displacement", "velocity", "acceleration", "stress", "energy",
                                                      "momentum", "crack_opening", "stress_intensity"});
   if (quantity == "stress_intensity") {
-    const std::string name = p.text("crack");
-    int index = -1;
-    for (std::size_t k = 0; k < d.discontinuities.size(); ++k)
-      if (d.discontinuities[k].name == name && d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack)
-        index = static_cast<int>(k);
-    if (index < 0) p.fail("crack", "no crack named '" + name + "' in continuum.discontinuities");
+    std::string name;
+    const int index = probe_crack(p, d, name);
     const bool at_end = p.choice("tip", {"start", "end"}) == "end";
     const auto& points = d.discontinuities[static_cast<std::size_t>(index)].points;
     const std::array<double, 2> tip = at_end ? points.back() : points.front();
@@ -292,12 +301,8 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   probe.at[0] = at[0], probe.at[1] = at[1];
   const double tolerance = 1e-9 * std::min((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
   if (quantity == "crack_opening") {
-    const std::string name = p.text("crack");
-    int index = -1;
-    for (std::size_t k = 0; k < d.discontinuities.size(); ++k)
-      if (d.discontinuities[k].name == name && d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack)
-        index = static_cast<int>(k);
-    if (index < 0) p.fail("crack", "no crack named '" + name + "' in continuum.discontinuities");
+    std::string name;
+    const int index = probe_crack(p, d, name);
     const PlateDesc one = [&] {
       PlateDesc only = d;
       only.discontinuities = {d.discontinuities[static_cast<std::size_t>(index)]};

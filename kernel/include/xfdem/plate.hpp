@@ -370,8 +370,8 @@ void plate_subtract_stiffness_product(const PlateModel& model, const double* x, 
 /// the tip, 0 on the others, interpolated by the shape functions, and the
 /// integral runs over the cells where it varies, on their own quadrature
 /// (docs/xfem2d.md). Both NaN when that end is not a tip, the radius is not
-/// positive and finite, or a node with q = 1 is on the domain's boundary. No
-/// allocation.
+/// positive and finite, no node is within it, or a node with q = 1 is on the
+/// domain's boundary. No allocation.
 void plate_stress_intensity(const PlateModel& model, const PlateState& state, int crack, bool at_end, double radius,
                             double k[2]);
 

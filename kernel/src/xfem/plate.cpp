@@ -2140,6 +2140,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
         }
       });
     }
+  if (e_star == 0.0) return;  // q = 0 everywhere: no node within the radius
   // I = 2 (K_I K_I^aux + K_II K_II^aux) / E*.
   k[0] = 0.5 * e_star * integral[0];
   k[1] = 0.5 * e_star * integral[1];
