@@ -115,6 +115,31 @@ TEST(PlateTip, WilliamsFieldsGiveTheirStressIntensityFactors) {
   }
 }
 
+// The crack's opening behind the tip (normal: the jump of u_y, tangential: of
+// u_x, upper minus lower) against the Williams jump (κ + 1) K/μ √(r/2π) with
+// K = K_I, K_II, on 41 × 41 cells with geometric enrichment (r = 0.3): the
+// branch function F₁ carries it near the tip, Heaviside farther away.
+TEST(PlateTip, CrackOpeningFollowsTheWilliamsJump) {
+  const double k0 = 1e6;
+  const double mu = kE / (2 * (1 + kNu)), kappa = xfem::kolosov(kNu, true);
+  for (auto [k1, k2] : {std::pair{k0, 0.0}, std::pair{0.0, k0}, std::pair{0.8 * k0, -0.6 * k0}}) {
+    PlateDesc d = williams_square(41, k1, k2, 0.3);
+    PlateModel m;
+    PlateState st;
+    PlateWorkspace ws;
+    ASSERT_TRUE(build_plate(d, m, st, ws).ok());
+    for (double r_behind : {0.05, 0.2, 0.6}) {
+      const double scale = (kappa + 1) / mu * std::sqrt(r_behind / (2 * std::numbers::pi));
+      const double open = plate_crack_opening(m, st, 0, -r_behind, 0.0, 0);
+      const double slide = plate_crack_opening(m, st, 0, -r_behind, 0.0, 1);
+      std::printf("K (%.2g, %.2g), r = %.2f behind the tip: opening %.6g (exact %.6g), sliding %.6g (exact %.6g)\n", k1,
+                  k2, r_behind, open, scale * k1, slide, scale * k2);
+      EXPECT_NEAR(open, scale * k1, 0.01 * scale * k0);
+      EXPECT_NEAR(slide, scale * k2, 0.01 * scale * k0);
+    }
+  }
+}
+
 namespace {
 
 /// Relative energy-norm error of the plate's stress against the Williams field
