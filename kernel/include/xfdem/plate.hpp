@@ -339,8 +339,9 @@ double plate_crack_opening(const PlateModel& model, const PlateState& state, int
 /// One piece of cell (i, j) as the plate integrates it, in parent coordinates
 /// (ξ, η ∈ [−1, 1], corners counter-clockwise): an uncut cell is one piece,
 /// its four corners; a cut cell is the triangles of its four sub-triangles
-/// split along the cutting level set, each on one side of it. Pieces with no
-/// material (a hole's) are not listed.
+/// split along the cutting level set, each on one side of it; the cell holding
+/// a crack tip is the triangles fanned from the tip (at most 15). Pieces with
+/// no material (a hole's) are not listed.
 struct PlateCellPiece {
   int corners = 0;                     ///< 4 (an uncut cell) or 3
   double xi[4] = {}, eta[4] = {};
