@@ -159,7 +159,8 @@ TEST_P(PlateCliRejects, WithTheKeyNamedAndNoOutput) {
 INSTANTIATE_TEST_SUITE_P(
     BadValues, PlateCliRejects,
     ::testing::Values(
-        PlateBadInput{"--set continuum.tip_enrichment.radius=0", "scene key 'continuum.tip_enrichment': not supported yet"},
+        PlateBadInput{"--set continuum.tip_enrichment.radius=-0.1",
+                      "scene key 'continuum.tip_enrichment.radius': must be >= 0"},
         PlateBadInput{"--set 'dem={\"particles\":[]}'",
                       "scene key 'dem': particles together with a plate are not supported yet"},
         PlateBadInput{"--set dimension=1 --set gravity=[0]", "scene key 'dimension': a plate scene must have dimension 2"},
@@ -189,9 +190,13 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[3,0],[3,1]]}]'",
                       "scene key 'continuum.discontinuities.0.points': the crack 'c' does not enter the domain"},
-        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.3],[1,0.3]]}]'",
-                      "scene key 'continuum.discontinuities.0.points': the crack 'c' ends inside the domain at (1, 0.3); "
-                      "crack tips (branch enrichment) are not supported yet"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.3],[1,0.3]],"
+                      "\"faces\":\"tied\",\"stiffness\":[1e13,1e13]}]'",
+                      "scene key 'continuum.discontinuities.0.faces': the crack 'c' ends inside the domain (a tip)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.33],[1,0.33]]},"
+                      "{\"name\":\"d\",\"type\":\"crack\",\"points\":[[3,0.63],[1.15,0.63]]}]' "
+                      "--set continuum.tip_enrichment.radius=0.3",
+                      "scene key 'continuum.tip_enrichment.radius': the node at"},
         PlateBadInput{"--set continuum.analysis=static --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
                       "\"points\":[[1.03,-1],[1.03,2]],\"faces\":\"unilateral\",\"stiffness\":[1e13,1e13]}]'",
                       "'continuum.supports': the plate is not held against rigid motion once its unilateral crack "
@@ -211,5 +216,63 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set continuum.cells=[90000,1] --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
                       "\"points\":[[-1,0.37],[3,0.37]]}]'",
                       "'continuum.max_enriched_dofs': the discontinuities need 270001 enriched unknowns, more than 200000"},
-        PlateBadInput{"--set output.probes.0.quantity=stress_intensity",
-                      "scene key 'output.probes.0.quantity': stress_intensity is not supported yet"}));
+        PlateBadInput{"--set output.probes.0.quantity=stress_intensity --set output.probes.0.crack=none",
+                      "scene key 'output.probes.0.crack': no crack named 'none'"}));
+
+std::string edge_crack() { return xfdem::testing::scene_file("plate_edge_crack.json"); }
+
+// The edge crack in a strip (scenes/plate_edge_crack.json, a/W = 0.4, the
+// strip 6W high): K_I through the probe against Tada's F(a/W) within 1 %
+// (as the kernel's test), K_II about nothing, and the opening positive.
+TEST(PlateCli, EdgeCrackStressIntensityFollowsTada) {
+  const fs::path csv = scratch() / "edge_crack.csv";
+  const Result r = run("run " + edge_crack() + " --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = lines(csv);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0], "t,K_I,K_II,opening,E_elastic");
+  const auto v = values(rows[1]);
+  const double alpha = 0.4, sigma = 1e6;
+  const double f = 1.12 - 0.231 * alpha + 10.55 * alpha * alpha - 21.72 * std::pow(alpha, 3) + 30.39 * std::pow(alpha, 4);
+  const double exact = sigma * std::sqrt(std::acos(-1.0) * alpha) * f;
+  EXPECT_NEAR(v[1], exact, 0.01 * exact);
+  EXPECT_LT(std::fabs(v[2]), 0.01 * exact);
+  EXPECT_GT(v[3], 0.0);
+}
+
+TEST(PlateCli, CrackTipDynamicRunIsTheSameOnOneAndTwoWorkers) {
+  const std::string args = " --set continuum.analysis=dynamic --set continuum.cells=[20,120]";
+  const fs::path a = scratch() / "tip_one.csv", b = scratch() / "tip_two.csv";
+  ASSERT_EQ(run("run " + edge_crack() + args + " --csv " + a.string()).exit_code, 0);
+  ASSERT_EQ(run("run " + edge_crack() + args + " --threads 2 --csv " + b.string()).exit_code, 0);
+  EXPECT_EQ(slurp(a), slurp(b));
+  EXPECT_EQ(lines(a).size(), 22u);
+}
+
+// The same refusals on the edge-crack scene.
+class PlateTipCliRejects : public ::testing::TestWithParam<PlateBadInput> {};
+
+TEST_P(PlateTipCliRejects, WithTheKeyNamedAndNoOutput) {
+  const fs::path csv = scratch() / "never_tip.csv";
+  fs::remove(csv);
+  const Result r = run("run " + edge_crack() + " " + GetParam().args + " --csv " + csv.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find(GetParam().must_mention), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(csv));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BadValues, PlateTipCliRejects,
+    ::testing::Values(
+        PlateBadInput{"--set output.probes.0.tip=start",
+                    "scene key 'output.probes.0.tip': the start of crack 'edge' at (-0.5, "},
+        PlateBadInput{"--set output.probes.0.tip=middle", "scene key 'output.probes.0.tip': 'middle' is not one of"},
+        PlateBadInput{"--set output.probes.0.mode=III", "scene key 'output.probes.0.mode': 'III' is not one of"},
+        PlateBadInput{"--set continuum.cells=[4,24]",
+                    "scene key 'output.probes.0.tip': the end tip of crack 'edge' is 0.4"},
+        PlateBadInput{"--set continuum.cells=[4,24]",
+                    "interaction integral's domain (4 cells, 1 m) must stay inside the plate"},
+        PlateBadInput{"--set continuum.tip_enrichment.radius=x", "scene key 'continuum.tip_enrichment.radius'"},
+        PlateBadInput{"--set continuum.cells=[100,600] --set continuum.tip_enrichment.radius=10",
+                    "scene key 'continuum.max_enriched_dofs': the discontinuities need"},
+        PlateBadInput{"--set continuum.tip_enrichment.size=1", "scene key 'continuum.tip_enrichment.size': unknown key"}));

@@ -10,6 +10,10 @@ namespace xfdem::scene {
 
 namespace {
 
+/// The stress_intensity probe's interaction-integral radius, in cells (the
+/// larger side): q = 1 on the nodes within it (docs/xfem2d.md).
+constexpr int kStressIntensityCells = 4;
+
 
 PlateEdge read_edge(ObjectReader& r) {
   const std::string e = r.choice("edge", {"left", "right", "bottom", "top"});
@@ -111,9 +115,11 @@ bool is_static_plate(const Json& document) {
 PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gravity) {
   PlateDesc d;
   c.choice("type", {"plate"});
-  if (c.has("tip_enrichment"))
-    c.fail("tip_enrichment", "not supported yet: this build has cracks that cut through the plate only (crack tips "
-                             "and their branch enrichment come later)");
+  if (c.has("tip_enrichment")) {
+    ObjectReader tip = c.object("tip_enrichment");
+    d.tip_radius = tip.real("radius", kNonNegative);
+    tip.finish();
+  }
   d.plane = c.choice_or("plane", "strain", {"strain", "stress"}) == "stress" ? PlateDesc::Plane::stress
                                                                             : PlateDesc::Plane::strain;
   d.thickness = c.real_or("thickness", 1.0, kPositive);
@@ -238,12 +244,48 @@ PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gra
   return d;
 }
 
+namespace {
+
+/// The index of the crack the probe's "crack" names (refused when there is none).
+int probe_crack(ObjectReader& p, const PlateDesc& d, std::string& name) {
+  name = p.text("crack");
+  for (std::size_t k = 0; k < d.discontinuities.size(); ++k)
+    if (d.discontinuities[k].name == name && d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack)
+      return static_cast<int>(k);
+  p.fail("crack", "no crack named '" + name + "' in continuum.discontinuities");
+}
+
+}  // namespace
+
 void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   const std::string quantity = p.choice("quantity", {"displacement", "velocity", "acceleration", "stress", "energy",
                                                      "momentum", "crack_opening", "stress_intensity"});
-  if (quantity == "stress_intensity")
-    p.fail("quantity", "stress_intensity is not supported yet: this build has no crack tips (cracks cut through "
-                       "the plate)");
+  if (quantity == "stress_intensity") {
+    std::string name;
+    const int index = probe_crack(p, d, name);
+    const bool at_end = p.choice("tip", {"start", "end"}) == "end";
+    const auto& points = d.discontinuities[static_cast<std::size_t>(index)].points;
+    const std::array<double, 2> tip = at_end ? points.back() : points.front();
+    // The interaction integral's domain: the nodes within kStressIntensityCells
+    // cells of the tip (q = 1 there), which must all be inside the plate.
+    const double cell = std::max((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
+    const double radius = kStressIntensityCells * cell;
+    const double reach = std::min({tip[0] - d.min[0], d.max[0] - tip[0], tip[1] - d.min[1], d.max[1] - tip[1]});
+    if (!(reach > 0.0))
+      p.fail("tip", "the " + std::string(at_end ? "end" : "start") + " of crack '" + name + "' at (" + number(tip[0]) +
+                        ", " + number(tip[1]) + ") is not inside the plate: it is not a tip");
+    if (!(reach > radius))
+      p.fail("tip", "the " + std::string(at_end ? "end" : "start") + " tip of crack '" + name + "' is " + number(reach) +
+                        " m from the boundary: the interaction integral's domain (" +
+                        std::to_string(kStressIntensityCells) + " cells, " + number(radius) +
+                        " m) must stay inside the plate (refine the mesh)");
+    probe.kind = Probe::Kind::plate_stress_intensity;
+    probe.other = index;
+    probe.tip_end = at_end;
+    probe.radius = radius;
+    probe.component = p.choice("mode", {"I", "II"}) == "I" ? 0 : 1;
+    return;
+  }
   if (quantity == "energy") {
     probe.kind = energy_probe_kind(p);
     return;
@@ -259,12 +301,8 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   probe.at[0] = at[0], probe.at[1] = at[1];
   const double tolerance = 1e-9 * std::min((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
   if (quantity == "crack_opening") {
-    const std::string name = p.text("crack");
-    int index = -1;
-    for (std::size_t k = 0; k < d.discontinuities.size(); ++k)
-      if (d.discontinuities[k].name == name && d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack)
-        index = static_cast<int>(k);
-    if (index < 0) p.fail("crack", "no crack named '" + name + "' in continuum.discontinuities");
+    std::string name;
+    const int index = probe_crack(p, d, name);
     const PlateDesc one = [&] {
       PlateDesc only = d;
       only.discontinuities = {d.discontinuities[static_cast<std::size_t>(index)]};

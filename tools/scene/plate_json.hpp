@@ -1,8 +1,8 @@
 // The scene file's 2D continuum, `"continuum": {"type": "plate", ...}`
 // (shared spec: scenes-2d.md) -> xfdem::PlateDesc, and the plate's probes.
-// Discontinuities: cracks that cut through the plate (faces free, tied or
-// unilateral), inclusions and voids. Crack tips (`tip_enrichment`, a crack
-// ending inside, the `stress_intensity` probe) are refused as not supported yet.
+// Discontinuities: cracks (faces free, tied or unilateral; a crack ending
+// inside the plate has a tip, its faces free), inclusions and voids;
+// tip_enrichment { radius } and the `stress_intensity` probe.
 #pragma once
 #include <vector>
 
@@ -19,7 +19,8 @@ bool is_static_plate(const Json& document);
 /// Reads exactly the keys of a plate block: type ("plate"), plane (strain |
 /// stress, default strain), thickness (default 1), domain { min, max },
 /// cells [nx, ny], material { youngs_modulus, poisson_ratio, density },
-/// self_weight (default false; uses the scene's gravity), analysis (dynamic |
+/// self_weight (default false; uses the scene's gravity), tip_enrichment
+/// { radius } (m, >= 0, default 0: the nodes of the tip's cell), analysis (dynamic |
 /// static, default dynamic), newmark { beta, gamma } (default 1/4, 1/2),
 /// supports [ { edge, fix: [x, y], absorbing } ], prescribed [ { at, displacement } ],
 /// loads [ { edge, traction, shape, duration } | { at, force, shape, duration } ],

@@ -138,6 +138,11 @@ class PlateSystem {
       case Probe::Kind::plate_stress: return plate_stress(model_, state_, p.at[0], p.at[1], p.component);
       case Probe::Kind::plate_crack_opening:
         return plate_crack_opening(model_, state_, p.other, p.at[0], p.at[1], p.component);
+      case Probe::Kind::plate_stress_intensity: {
+        double k[2];
+        plate_stress_intensity(model_, state_, p.other, p.tip_end, p.radius, k);
+        return k[p.component];
+      }
       case Probe::Kind::momentum_continuum: return plate_momentum(model_, state_, p.component);
       case Probe::Kind::momentum_particles: return 0.0;  // no particles with a plate yet
       case Probe::Kind::energy_total: {

@@ -37,6 +37,7 @@ struct Probe {
     plate_acceleration,
     plate_stress,
     plate_crack_opening,  ///< other: the crack's index; component 0 normal, 1 tangential
+    plate_stress_intensity,  ///< other: the crack's index, tip_end, radius; component 0 K_I, 1 K_II
     momentum_continuum,
     momentum_particles,
     // Rotating particles (scenes-2d.md, "Particles: rotation and friction").
@@ -52,6 +53,8 @@ struct Probe {
   int component = 0;   ///< axis for position and velocity (and the 3D angular velocity)
   double bar_at = 0;   ///< coordinate along the bar (m)
   double at[2] = {0, 0};  ///< point of the plate (m)
+  bool tip_end = false;   ///< stress_intensity: the crack's last point (false: its first)
+  double radius = 0;      ///< stress_intensity: the interaction integral's domain, m
 };
 
 struct Scene {

@@ -127,6 +127,10 @@ struct PlateDesc {
   /// build with BuildResult::Code::capacity naming it.
   int max_enriched_dofs = 200000;
   int max_cut_cells = 100000;
+  /// Tip enrichment (the scene's tip_enrichment.radius, m): 0 enriches the
+  /// nodes of the cell holding each crack tip with the four branch functions
+  /// (topological); r > 0 also every node within r of a tip (geometric).
+  double tip_radius = 0.0;
 };
 
 /// Everything build_plate() derives from a PlateDesc. Immutable after build.
@@ -197,6 +201,28 @@ struct PlateModel {
   std::vector<FacePoint> face_points;
   /// ρ t ∫ N_n ψ dA of node n's enrichment function in slot s, at [2n + s], kg.
   std::vector<double> enrichment_mass;
+
+  // ---- crack tips (empty without them) ----------------------------------------
+  /// A crack end strictly inside the domain: its frame (xfem::TipFrame's
+  /// fields), the cell holding it and the point where the crack leaves that
+  /// cell (the tip cell is fanned from the tip through it).
+  struct Tip {
+    int crack = -1;
+    bool at_end = false;  ///< the polyline's last point (false: its first)
+    double origin[2] = {0, 0};
+    double cos_a = 1.0, sin_a = 0.0;
+    int cell = -1;
+    double exit[2] = {0, 0};  ///< parent coordinates in the tip cell
+  };
+  std::vector<Tip> tips;
+  /// The tip whose four branch functions node n carries (−1 none), their
+  /// unknowns at tip_dof[8n + 2i + c] (function i, component c; −1: held by a
+  /// support), ρ t ∫ N_n (F_i − F_i(x_n)) dA at tip_mass[4n + i].
+  std::vector<int> node_tip, tip_dof;
+  std::vector<double> tip_mass;
+  /// The tip in cell c (−1 none).
+  std::vector<int> cell_tip;
+  int tip_nodes = 0;
 
   // ---- K x cell by cell (the step's product; K's profile holds zeros) ---------
   /// The plain cells' 8 unknowns (−1: held), 8 per cell (element_stiffness applies).
@@ -325,8 +351,9 @@ double plate_crack_opening(const PlateModel& model, const PlateState& state, int
 /// One piece of cell (i, j) as the plate integrates it, in parent coordinates
 /// (ξ, η ∈ [−1, 1], corners counter-clockwise): an uncut cell is one piece,
 /// its four corners; a cut cell is the triangles of its four sub-triangles
-/// split along the cutting level set, each on one side of it. Pieces with no
-/// material (a hole's) are not listed.
+/// split along the cutting level set, each on one side of it; the cell holding
+/// a crack tip is the triangles fanned from the tip (at most 15). Pieces with
+/// no material (a hole's) are not listed.
 struct PlateCellPiece {
   int corners = 0;                     ///< 4 (an uncut cell) or 3
   double xi[4] = {}, eta[4] = {};
@@ -334,7 +361,7 @@ struct PlateCellPiece {
   int side = 1;                        ///< side of the cutting level set (+1 uncut)
   int material = 0;                    ///< 0 the plate's, 1 + k inclusion k's
 };
-inline constexpr int kPlateMaxCellPieces = 12;
+inline constexpr int kPlateMaxCellPieces = 16;
 /// The pieces of cell (i, j) (read-only geometry of the model; 0 for an
 /// unbuilt model, a cell out of range or a cell with no material).
 int plate_cell_pieces(const PlateModel& model, int i, int j, PlateCellPiece out[kPlateMaxCellPieces]);
@@ -350,7 +377,8 @@ void plate_piece_fields(const PlateModel& model, const PlateState& state, int i,
 /// enrichments of its enriched nodes, each with its unknowns. A field's value
 /// there is Σ n[f]·(its unknown dof[f][c], or held[f][c] for a held
 /// displacement); a force F there is Σ n[f]·F_c on each unknown dof[f][c].
-inline constexpr int kPlateMaxPointFunctions = 12;
+/// Four standard, two Heaviside and four branch functions per node at most.
+inline constexpr int kPlateMaxPointFunctions = 4 + 4 * 2 + 4 * 4;
 struct PlatePointBasis {
   int count = 0;
   double n[kPlateMaxPointFunctions] = {};
@@ -364,6 +392,18 @@ bool plate_point_basis(const PlateModel& model, int i, int j, double xi, double 
 /// cell order, then the tied crack faces' penalties): the product the step
 /// uses. Equals model.stiffness.subtract_product() to round-off. No allocation.
 void plate_subtract_stiffness_product(const PlateModel& model, const double* x, double* y);
+
+/// The stress intensity factors K_I, K_II (Pa·√m, in the tip's frame: mode
+/// II positive when the local-y face slides towards local x) of the first
+/// (at_end false) or last point of crack `crack`, by the domain form of the
+/// interaction integral: the weight q is 1 on the nodes within `radius` of
+/// the tip, 0 on the others, interpolated by the shape functions, and the
+/// integral runs over the cells where it varies, on their own quadrature
+/// (docs/xfem2d.md). Both NaN when that end is not a tip, the radius is not
+/// positive and finite, no node is within it, or a node with q = 1 is on the
+/// domain's boundary. No allocation.
+void plate_stress_intensity(const PlateModel& model, const PlateState& state, int crack, bool at_end, double radius,
+                            double k[2]);
 
 /// Where a point lies: −1 outside the domain, 0 in material, 1 on a
 /// discontinuity (within `tolerance` of it, by its exact level set), 2 in a hole.

@@ -518,6 +518,7 @@ std::uint64_t model_fingerprint(const PlateModel& model) noexcept {
                      q.material.poisson_ratio, q.material.density})
       h = mix_double(h, v);
   }
+  if (!model.tips.empty()) h = mix_double(h, d.tip_radius);  // only with a tip: other plates' hashes unchanged
   return h;
 }
 

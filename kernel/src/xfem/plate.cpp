@@ -101,22 +101,43 @@ bool strictly_inside(const PlateDesc& d, Point2 x) {
   return x[0] > d.min[0] && x[0] < d.max[0] && x[1] > d.min[1] && x[1] < d.max[1];
 }
 
-/// Closed segment [a, b] meets the open domain: some point of it strictly inside.
-bool segment_enters_domain(const PlateDesc& d, Point2 a, Point2 b) {
-  // Clip the segment's parameter range to the open box (Liang-Barsky).
-  double t0 = 0.0, t1 = 1.0;
+/// Clips closed segment [a, b] to the box [lo, hi] (Liang-Barsky): the
+/// parameter range [t0, t1] inside; false when it misses the box. `open`: the
+/// open box (a segment along a face misses it).
+bool clip_segment(const double lo[2], const double hi[2], Point2 a, Point2 b, bool open, double& t0, double& t1) {
+  t0 = 0.0, t1 = 1.0;
   for (int c = 0; c < 2; ++c) {
     const double delta = b[c] - a[c];
     if (delta == 0.0) {
-      if (!(a[c] > d.min[c] && a[c] < d.max[c])) return false;
+      if (open ? !(a[c] > lo[c] && a[c] < hi[c]) : !(a[c] >= lo[c] && a[c] <= hi[c])) return false;
       continue;
     }
-    double lo = (d.min[c] - a[c]) / delta, hi = (d.max[c] - a[c]) / delta;
-    if (lo > hi) std::swap(lo, hi);
-    t0 = std::max(t0, lo);
-    t1 = std::min(t1, hi);
+    double l = (lo[c] - a[c]) / delta, h = (hi[c] - a[c]) / delta;
+    if (l > h) std::swap(l, h);
+    t0 = std::max(t0, l);
+    t1 = std::min(t1, h);
   }
-  return t0 < t1;
+  return open ? t0 < t1 : t0 <= t1;
+}
+
+/// Closed segment [a, b] meets the open domain: some point of it strictly inside.
+bool segment_enters_domain(const PlateDesc& d, Point2 a, Point2 b) {
+  double t0 = 0.0, t1 = 0.0;
+  return clip_segment(d.min, d.max, a, b, true, t0, t1);
+}
+
+/// The polyline (not extended) meets the box: its interior (open) or its closure.
+bool polyline_meets_box(const std::vector<Point2>& p, const double lo[2], const double hi[2], bool open) {
+  double t0 = 0.0, t1 = 0.0;
+  for (std::size_t s = 0; s + 1 < p.size(); ++s)
+    if (clip_segment(lo, hi, p[s], p[s + 1], open, t0, t1)) return true;
+  return false;
+}
+
+/// A crack end strictly inside the domain is a tip.
+bool crack_has_tip(const PlateDesc& d, const PlateDiscontinuity& q) {
+  return q.kind == PlateDiscontinuity::Kind::crack && q.points.size() >= 2 &&
+         (strictly_inside(d, q.points.front()) || strictly_inside(d, q.points.back()));
 }
 
 /// Interiors of two regions (circle or polygon) share a point.
@@ -191,13 +212,12 @@ BuildResult validate_discontinuities(const PlateDesc& d) {
         return BuildResult::failure(Code::invalid_argument,
                                     "discontinuities.%zu.points: the crack '%s' does not enter the domain", k,
                                     q.name.c_str());
-      for (const Point2 end : {q.points.front(), q.points.back()})
-        if (strictly_inside(d, end))
-          return BuildResult::failure(Code::invalid_argument,
-                                      "discontinuities.%zu.points: the crack '%s' ends inside the domain at (%g, %g); "
-                                      "crack tips (branch enrichment) are not supported yet: extend it to or beyond "
-                                      "the boundary",
-                                      k, q.name.c_str(), end[0], end[1]);
+      if (q.faces != Disc::Faces::free && crack_has_tip(d, q))
+        return BuildResult::failure(Code::invalid_argument,
+                                    "discontinuities.%zu.faces: the crack '%s' ends inside the domain (a tip): this "
+                                    "build ties or closes the faces of cracks that cut through the plate only (faces "
+                                    "must be free)",
+                                    k, q.name.c_str());
       if (q.faces != Disc::Faces::free)
         for (int c = 0; c < 2; ++c)
           if (!positive_finite(q.stiffness[c]))
@@ -311,25 +331,44 @@ void plate_element_matrices(double hx, double hy, const double elasticity[3][3],
 
 namespace {
 
+/// At most: 4 standard, 2 enrichment slots and 4 branch functions per node.
+constexpr int kMaxCellFunctions = kPlateMaxPointFunctions;
+
 /// The functions of one cell: standard N_a of its four nodes, then each
-/// enrichment N_a ψ_k of its enriched nodes, with their unknowns.
+/// enrichment N_a ψ_k of its enriched nodes, then the branch functions
+/// N_a (F_i − F_i(x_a)) of its tip-enriched nodes, with their unknowns.
 struct CellView {
   int i = 0, j = 0, cell = 0;
   int en[4] = {};
   int cut = -1;       ///< the discontinuity cutting the cell, −1 none
   int material = 0;   ///< of the uncut cell / the cut cell's positive side (−1: none)
+  int tip_cell = -1;  ///< the tip in the cell (−1 none): its pieces are fanned from the tip
+  bool tip_functions = false;  ///< some node carries branch functions
   int count = 0;      ///< functions
-  int node[12] = {};  ///< local node of function f
-  int disc[12] = {};  ///< −1: standard; else the enriching discontinuity
-  int dof[12][2] = {};       ///< unknown of (f, c), −1: held or absent
-  double held[12][2] = {};   ///< displacement of a held standard component
+  int node[kMaxCellFunctions] = {};  ///< local node of function f
+  int disc[kMaxCellFunctions] = {};  ///< −1: standard or branch; else the enriching discontinuity
+  int tip[kMaxCellFunctions] = {};   ///< branch function: its tip (−1: not one)
+  int branch[kMaxCellFunctions] = {};      ///< branch function: which of the four
+  double branch_at_node[kMaxCellFunctions] = {};  ///< F_i(x_a), the shift
+  int dof[kMaxCellFunctions][2] = {};       ///< unknown of (f, c), −1: held or absent
+  double held[kMaxCellFunctions][2] = {};   ///< displacement of a held standard component
   double phi[5] = {};        ///< the cutting discontinuity's level set at the nodes and the centre (mean)
+  double x0[2] = {}, x1[2] = {};  ///< the cell's lower-left and upper-right corners, m
   bool plain = true;  ///< standard functions only, the plate's material, uncut (the fixed element matrices apply)
 };
 
 struct BasisAt {
-  double n[12], dx[12], dy[12];
+  double n[kMaxCellFunctions], dx[kMaxCellFunctions], dy[kMaxCellFunctions];
 };
+
+xfem::TipFrame frame_of(const PlateModel::Tip& t) {
+  return xfem::TipFrame{{t.origin[0], t.origin[1]}, t.cos_a, t.sin_a};
+}
+
+/// The physical point of parent point (xi, eta) of a cell.
+inline Point2 physical(const CellView& v, double xi, double eta) {
+  return {v.x0[0] + 0.5 * (1.0 + xi) * (v.x1[0] - v.x0[0]), v.x0[1] + 0.5 * (1.0 + eta) * (v.x1[1] - v.x0[1])};
+}
 
 inline double phi_at(const PlateModel& m, int k, int node) {
   return m.node_phi[static_cast<std::size_t>(k) * static_cast<std::size_t>(m.nodes) + static_cast<std::size_t>(node)];
@@ -349,10 +388,15 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
   const bool any = !m.cell_cut_by.empty();
   v.cut = any ? m.cell_cut_by[static_cast<std::size_t>(v.cell)] : -1;
   v.material = any ? m.cell_material[static_cast<std::size_t>(v.cell)] : 0;
+  const PlateDesc& d = m.desc;
+  v.x0[0] = node_coord(d.min[0], d.max[0], i, nx), v.x1[0] = node_coord(d.min[0], d.max[0], i + 1, nx);
+  v.x0[1] = node_coord(d.min[1], d.max[1], j, d.cells[1]), v.x1[1] = node_coord(d.min[1], d.max[1], j + 1, d.cells[1]);
   v.count = 0;
+  v.tip_cell = -1;
+  v.tip_functions = false;
   for (int a = 0; a < 4; ++a) {
     const int f = v.count++;
-    v.node[f] = a, v.disc[f] = -1;
+    v.node[f] = a, v.disc[f] = -1, v.tip[f] = -1;
     for (int c = 0; c < 2; ++c) {
       const auto k = static_cast<std::size_t>(2 * v.en[a] + c);
       v.dof[f][c] = m.node_dof[k];
@@ -365,12 +409,31 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
         const int k = m.node_enrichment[static_cast<std::size_t>(2 * v.en[a] + s)];
         if (k < 0) continue;
         const int f = v.count++;
-        v.node[f] = a, v.disc[f] = k;
+        v.node[f] = a, v.disc[f] = k, v.tip[f] = -1;
         for (int c = 0; c < 2; ++c) {
           v.dof[f][c] = m.enriched_dof[static_cast<std::size_t>(2 * (2 * v.en[a] + s) + c)];
           v.held[f][c] = 0.0;
         }
       }
+  if (!m.tips.empty()) {
+    v.tip_cell = m.cell_tip[static_cast<std::size_t>(v.cell)];
+    for (int a = 0; a < 4; ++a) {
+      const int t = m.node_tip[static_cast<std::size_t>(v.en[a])];
+      if (t < 0) continue;
+      v.tip_functions = true;
+      const Point2 xa = physical(v, kXi[a], kEta[a]);
+      double value[4], grad[4][2];
+      xfem::branch_functions(frame_of(m.tips[static_cast<std::size_t>(t)]), xa, value, grad);
+      for (int b = 0; b < 4; ++b) {
+        const int f = v.count++;
+        v.node[f] = a, v.disc[f] = -1, v.tip[f] = t, v.branch[f] = b, v.branch_at_node[f] = value[b];
+        for (int c = 0; c < 2; ++c) {
+          v.dof[f][c] = m.tip_dof[static_cast<std::size_t>(8 * v.en[a] + 2 * b + c)];
+          v.held[f][c] = 0.0;
+        }
+      }
+    }
+  }
   v.plain = v.count == 4 && v.cut < 0 && v.material == 0;
   if (v.cut >= 0) {
     double mean = 0.0;
@@ -447,8 +510,33 @@ void evaluate(const PlateModel& m, const CellView& v, double xi, double eta, int
       ridge_dy += dy[b] * abs_phi;
     }
   }
+  // The branch functions of the (at most four) tips of the cell's nodes at this point.
+  int tips_here[4] = {-1, -1, -1, -1};
+  double tip_value[4][4], tip_grad[4][4][2];
+  if (v.tip_functions) {
+    const Point2 x = physical(v, xi, eta);
+    for (int f = 0; f < v.count; ++f) {
+      if (v.tip[f] < 0) continue;
+      int slot = 0;
+      while (tips_here[slot] >= 0 && tips_here[slot] != v.tip[f]) ++slot;
+      if (tips_here[slot] >= 0) continue;
+      tips_here[slot] = v.tip[f];
+      xfem::branch_functions(frame_of(m.tips[static_cast<std::size_t>(v.tip[f])]), x, tip_value[slot], tip_grad[slot]);
+    }
+  }
   for (int f = 0; f < v.count; ++f) {
     const int a = v.node[f], k = v.disc[f];
+    if (v.tip[f] >= 0) {
+      // Shifted branch function: N_a (F_i − F_i(x_a)).
+      int slot = 0;
+      while (tips_here[slot] != v.tip[f]) ++slot;
+      const int b = v.branch[f];
+      const double psi = tip_value[slot][b] - v.branch_at_node[f];
+      out.n[f] = n[a] * psi;
+      out.dx[f] = dx[a] * psi + n[a] * tip_grad[slot][b][0];
+      out.dy[f] = dy[a] * psi + n[a] * tip_grad[slot][b][1];
+      continue;
+    }
     if (k < 0) {
       out.n[f] = n[a], out.dx[f] = dx[a], out.dy[f] = dy[a];
       continue;
@@ -502,9 +590,61 @@ constexpr double kGl5w[5] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665,
 /// its four sub-triangles split along the linear level set, each piece on its
 /// side by membership, a collapsed 5 × 5 Gauss rule on each (exact to degree 8
 /// in the piece: the ridge's products included), weights from the piece's own area.
+/// Splits per edge of the tip cell's fan (3: the fan's angular rule integrates
+/// |∇F|² over a cell to ~1e-9, tests/xfem/crack_tip_test.cpp).
+constexpr int kTipSplits = 3;
+constexpr int kMaxPieces = 16;  // ≥ 4 × 3 split sub-triangles and 5 edges × kTipSplits fan triangles
+
+/// The triangles a cut cell, a tip cell or a cell with branch functions is
+/// integrated on (parent coordinates), each with its side and sub-triangle.
+/// A tip cell: fanned from the tip, its polygon through the point where the
+/// crack leaves it, so that every triangle lies on one side of the (straight
+/// in the cell) crack, the side of its centroid in the tip frame. Otherwise
+/// the four sub-triangles, split along the cutting level set when cut.
+int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece out[kMaxPieces], int triangle[kMaxPieces]) {
+  if (v.tip_cell >= 0) {
+    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip_cell)];
+    const Point2 tip = {2.0 * (t.origin[0] - v.x0[0]) / (v.x1[0] - v.x0[0]) - 1.0,
+                        2.0 * (t.origin[1] - v.x0[1]) / (v.x1[1] - v.x0[1]) - 1.0};
+    const Point2 exit = {t.exit[0], t.exit[1]};
+    Point2 poly[5];
+    int n = 0;
+    for (int a = 0; a < 4; ++a) {
+      poly[n++] = {kXi[a], kEta[a]};
+      const int b = (a + 1) % 4;
+      // Edge a runs along ξ (a = 0, 2) or η (a = 1, 3); the exit point strictly between its corners.
+      const bool along_xi = a % 2 == 0;
+      const bool on_edge = along_xi ? exit[1] == kEta[a] && exit[0] > std::min(kXi[a], kXi[b]) && exit[0] < std::max(kXi[a], kXi[b])
+                                    : exit[0] == kXi[a] && exit[1] > std::min(kEta[a], kEta[b]) && exit[1] < std::max(kEta[a], kEta[b]);
+      if (on_edge) poly[n++] = exit;
+    }
+    const int count = xfem::fan_from_tip(poly, n, tip, kTipSplits, 1, out);
+    for (int p = 0; p < count; ++p) {
+      const double cx = (out[p].v[0][0] + out[p].v[1][0] + out[p].v[2][0]) / 3.0;
+      const double cy = (out[p].v[0][1] + out[p].v[1][1] + out[p].v[2][1]) / 3.0;
+      const Point2 x = physical(v, cx, cy);
+      const double ly = -t.sin_a * (x[0] - t.origin[0]) + t.cos_a * (x[1] - t.origin[1]);
+      // Local y is the positive (left) side at a last point, the negative at a first.
+      out[p].side = (ly > 0.0) == t.at_end ? 1 : -1;
+      triangle[p] = triangle_of(cx, cy);
+    }
+    return count;
+  }
+  int count = 0;
+  for (int t = 0; t < 4; ++t) {
+    Point2 tri[3];
+    sub_triangle(t, tri);
+    const double phi[3] = {v.cut >= 0 ? v.phi[t] : 1.0, v.cut >= 0 ? v.phi[(t + 1) % 4] : 1.0, v.cut >= 0 ? v.phi[4] : 1.0};
+    const int made = xfem::split_triangle(tri, phi, out + count);
+    for (int p = 0; p < made; ++p) triangle[count + p] = t;
+    count += made;
+  }
+  return count;
+}
+
 template <class F>
 void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
-  if (v.cut < 0) {
+  if (v.cut < 0 && !v.tip_functions) {
     if (v.material < 0) return;
     const double g = 1.0 / std::sqrt(3.0);
     for (int gp = 0; gp < 4; ++gp) {
@@ -513,27 +653,23 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
     }
     return;
   }
-  for (int t = 0; t < 4; ++t) {
-    Point2 tri[3];
-    sub_triangle(t, tri);
-    const double phi[3] = {v.phi[t], v.phi[(t + 1) % 4], v.phi[4]};
-    xfem::TrianglePiece pieces[3];
-    const int count = xfem::split_triangle(tri, phi, pieces);
-    for (int p = 0; p < count; ++p) {
-      const xfem::TrianglePiece& q = pieces[p];
-      const int material = material_of(m, v, q.side);
-      if (material < 0) continue;
-      const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
-      const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
-      const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
-      if (jac == 0.0) continue;
-      for (int ia = 0; ia < 5; ++ia)
-        for (int ib = 0; ib < 5; ++ib) {
-          const double a = kGl5x[ia], b = kGl5x[ib];
-          const double xi = q.v[0][0] + a * e1x + a * b * e2x, eta = q.v[0][1] + a * e1y + a * b * e2y;
-          f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, t, q.side, material);
-        }
-    }
+  xfem::TrianglePiece pieces[kMaxPieces];
+  int triangle[kMaxPieces];
+  const int count = triangle_pieces(m, v, pieces, triangle);
+  for (int p = 0; p < count; ++p) {
+    const xfem::TrianglePiece& q = pieces[p];
+    const int material = material_of(m, v, q.side);
+    if (material < 0) continue;
+    const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
+    const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
+    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
+    if (jac == 0.0) continue;
+    for (int ia = 0; ia < 5; ++ia)
+      for (int ib = 0; ib < 5; ++ib) {
+        const double a = kGl5x[ia], b = kGl5x[ib];
+        const double xi = q.v[0][0] + a * e1x + a * b * e2x, eta = q.v[0][1] + a * e1y + a * b * e2y;
+        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
+      }
   }
 }
 
@@ -802,6 +938,9 @@ BuildResult validate_plate(const PlateDesc& d) {
     return BuildResult::failure(Code::invalid_argument, "max_enriched_dofs: must be >= 0, got %d", d.max_enriched_dofs);
   if (d.max_cut_cells < 0)
     return BuildResult::failure(Code::invalid_argument, "max_cut_cells: must be >= 0, got %d", d.max_cut_cells);
+  if (!std::isfinite(d.tip_radius) || d.tip_radius < 0.0)
+    return fail("tip_enrichment.radius: must be finite and >= 0 (m; 0: the nodes of the tip's cell only), got %g",
+                d.tip_radius);
   if (BuildResult r = validate_discontinuities(d); !r.ok()) return r;
   if (BuildResult r = validate_energy_check(d.energy_check); !r.ok()) return r;
   return BuildResult::success();
@@ -868,6 +1007,81 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     const auto ncells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     model.cell_cut_by.assign(ncells, -1);
     model.cell_material.assign(ncells, 0);
+    // ---- crack tips: the ends strictly inside the domain ----------------------
+    std::vector<char> has_tip(ndisc, 0);
+    for (std::size_t k = 0; k < ndisc; ++k) {
+      const PlateDiscontinuity& q = d.discontinuities[k];
+      if (!crack_has_tip(d, q)) continue;
+      has_tip[k] = 1;
+      for (const bool at_end : {false, true}) {
+        const Point2 end = at_end ? q.points.back() : q.points.front();
+        if (!strictly_inside(d, end)) continue;
+        if (model.cell_tip.empty()) {
+          model.cell_tip.assign(ncells, -1);
+          model.node_tip.assign(static_cast<std::size_t>(nodes), -1);
+        }
+        const xfem::TipFrame f = xfem::tip_frame(q.points, at_end);
+        PlateModel::Tip tip;
+        tip.crack = static_cast<int>(k), tip.at_end = at_end;
+        tip.origin[0] = f.origin[0], tip.origin[1] = f.origin[1], tip.cos_a = f.cos_a, tip.sin_a = f.sin_a;
+        // The tip's cell: the one holding the crack just behind the tip (a tip on a cell edge or node is in the
+        // closure of several).
+        const double back = 1e-6 * std::min(hx, hy);
+        int ci = 0, cj = 0;
+        double xi = 0.0, eta = 0.0;
+        if (!locate_axis(d.min[0], d.max[0], nx, f.origin[0] - back * f.cos_a, ci, xi) ||
+            !locate_axis(d.min[1], d.max[1], ny, f.origin[1] - back * f.sin_a, cj, eta))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.points: the tip of '%s' at (%g, %g) is within 1e-6 of a "
+                                      "cell of the boundary",
+                                      k, q.name.c_str(), f.origin[0], f.origin[1]);
+        const auto cell = static_cast<std::size_t>(cj * nx + ci);
+        if (model.cell_tip[cell] >= 0)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.points: two crack tips in the cell (%d, %d); this build "
+                                      "allows one tip per cell (refine the mesh)",
+                                      k, ci, cj);
+        // Where the crack leaves the tip's cell: along the tip's segment, which must leave it.
+        const Point2 prev = at_end ? q.points[q.points.size() - 2] : q.points[1];
+        const double lo[2] = {xs(ci), ys(cj)}, hi[2] = {xs(ci + 1), ys(cj + 1)};
+        double t0 = 0.0, t1 = 0.0;
+        clip_segment(lo, hi, f.origin, prev, false, t0, t1);
+        if (!(t1 < 1.0))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.points: the crack '%s' bends inside the cell holding its tip "
+                                      "at (%g, %g); this build needs it straight there (refine the mesh)",
+                                      k, q.name.c_str(), f.origin[0], f.origin[1]);
+        for (int c = 0; c < 2; ++c) {
+          const double x = f.origin[c] + t1 * (prev[c] - f.origin[c]);
+          double p = 2.0 * (x - lo[c]) / (hi[c] - lo[c]) - 1.0;
+          if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
+          tip.exit[c] = std::clamp(p, -1.0, 1.0);
+        }
+        tip.cell = static_cast<int>(cell);
+        model.cell_tip[cell] = static_cast<int>(model.tips.size());
+        model.tips.push_back(tip);
+      }
+    }
+    // Branch functions: the nodes of each tip's cell, and (tip_radius > 0) every node within the radius.
+    for (std::size_t t = 0; t < model.tips.size(); ++t) {
+      const PlateModel::Tip& tip = model.tips[t];
+      const double r2 = d.tip_radius * d.tip_radius;
+      int en[4];
+      cell_nodes(nx, tip.cell % nx, tip.cell / nx, en);
+      for (int n = 0; n < nodes; ++n) {
+        const double dx = xs(n % (nx + 1)) - tip.origin[0], dy = ys(n / (nx + 1)) - tip.origin[1];
+        const bool own = n == en[0] || n == en[1] || n == en[2] || n == en[3];
+        if (!own && !(d.tip_radius > 0.0 && dx * dx + dy * dy <= r2)) continue;
+        int& slot = model.node_tip[static_cast<std::size_t>(n)];
+        if (slot >= 0 && slot != static_cast<int>(t))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "tip_enrichment.radius: the node at (%g, %g) is within reach of two crack tips "
+                                      "(reduce the radius or refine the mesh)",
+                                      xs(n % (nx + 1)), ys(n / (nx + 1)));
+        if (slot < 0) ++model.tip_nodes;
+        slot = static_cast<int>(t);
+      }
+    }
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         int en[4];
@@ -880,7 +1094,9 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             lo = std::min(lo, p), hi = std::max(hi, p);
           }
           const PlateDiscontinuity& q = d.discontinuities[k];
-          if (lo < 0.0 && hi > 0.0) {  // area on both sides
+          // A crack with a tip cuts only the cells its polyline enters (not its extension beyond the tip).
+          const double clo[2] = {xs(i), ys(j)}, chi[2] = {xs(i + 1), ys(j + 1)};
+          if (lo < 0.0 && hi > 0.0 && (!has_tip[k] || polyline_meets_box(q.points, clo, chi, true))) {  // area on both sides
             const int other = model.cell_cut_by[cell];
             if (other >= 0)
               return BuildResult::failure(Code::invalid_argument,
@@ -908,6 +1124,18 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         for (std::size_t k = 0; k < ndisc; ++k) {
           const PlateDiscontinuity& q = d.discontinuities[k];
           if (q.kind == PlateDiscontinuity::Kind::hole || !q.enrich) continue;
+          if (has_tip[k]) {
+            // A crack with a tip: no Heaviside on a node with branch functions of
+            // its tip or with the tip strictly inside its support (not split by it).
+            const int t = model.node_tip[static_cast<std::size_t>(n)];
+            if (t >= 0 && model.tips[static_cast<std::size_t>(t)].crack == static_cast<int>(k)) continue;
+            bool tip_inside = false;
+            for (const PlateModel::Tip& tip : model.tips)
+              tip_inside = tip_inside || (tip.crack == static_cast<int>(k) && tip.origin[0] > xs(std::max(i - 1, 0)) &&
+                                          tip.origin[0] < xs(std::min(i + 1, nx)) && tip.origin[1] > ys(std::max(j - 1, 0)) &&
+                                          tip.origin[1] < ys(std::min(j + 1, ny)));
+            if (tip_inside) continue;
+          }
           bool plus = false, minus = false, cut = false;
           for (int cj = std::max(j - 1, 0); cj <= std::min(j, ny - 1); ++cj)
             for (int ci = std::max(i - 1, 0); ci <= std::min(i, nx - 1); ++ci) {
@@ -915,6 +1143,11 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
               int en[4];
               cell_nodes(nx, ci, cj, en);
               if (model.cell_material[cell] < 0) continue;  // no material in the cell
+              if (has_tip[k]) {
+                // Sides count only where the crack itself (not its extension) reaches the cell.
+                const double clo[2] = {xs(ci), ys(cj)}, chi[2] = {xs(ci + 1), ys(cj + 1)};
+                if (!polyline_meets_box(q.points, clo, chi, false)) continue;
+              }
               if (model.cell_cut_by[cell] == static_cast<int>(k)) {
                 cut = plus = minus = true;
               } else {
@@ -1019,6 +1252,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
           for (int c = 0; c < 2; ++c)
             if (sp.fix[c]) enriched_held[static_cast<std::size_t>(2 * (2 * n + sl) + c)] = 1;
       });
+  const bool tips = !model.tips.empty();
+  if (tips) model.tip_dof.assign(4 * n2, -1);
 
   // ---- unknowns: node by node along the shorter side (a narrow profile), ----
   // each node's enrichment right after its own components.
@@ -1043,6 +1278,14 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         ++model.enriched_dofs;
       }
     }
+    if (!tips || model.node_tip[static_cast<std::size_t>(n)] < 0) continue;
+    for (int b = 0; b < 4; ++b)
+      for (int c = 0; c < 2; ++c) {
+        // Held by a support in the components it fixes, as the Heaviside unknowns.
+        if (!enriched_held.empty() && enriched_held[static_cast<std::size_t>(2 * (2 * n) + c)]) continue;
+        model.tip_dof[static_cast<std::size_t>(8 * n + 2 * b + c)] = next++;
+        ++model.enriched_dofs;
+      }
   }
   model.dofs = next;
   if (model.enriched_dofs > d.max_enriched_dofs)
@@ -1078,8 +1321,10 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   model.held_force.assign(nds, 0.0);
   model.node_mass.assign(static_cast<std::size_t>(nodes), 0.0);
   if (ndisc > 0) model.enrichment_mass.assign(n2, 0.0);
+  if (tips) model.tip_mass.assign(2 * n2, 0.0);
   const double det_j = 0.25 * hx * hy;
-  using MatE = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 24, 24>;
+  constexpr int kMaxCellDofs = 2 * kMaxCellFunctions;
+  using MatE = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCellDofs, kMaxCellDofs>;
   MatE ke_general, me_general;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
@@ -1098,8 +1343,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
           const std::array<double, 9>& dd = model.material_elasticity[static_cast<std::size_t>(material)];
           const double rho = model.material_density[static_cast<std::size_t>(material)];
           const double wt = w * det_j * d.thickness;
-          Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 24> bm(3, nf);
-          Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1> nv(view.count);
+          Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxCellDofs> bm(3, nf);
+          Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCellFunctions, 1> nv(view.count);
           bm.setZero();
           for (int f = 0; f < view.count; ++f) {
             bm(0, 2 * f) = basis.dx[f];
@@ -1118,7 +1363,9 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
               me_general(2 * f, 2 * g) += mfg;
               me_general(2 * f + 1, 2 * g + 1) += mfg;
             }
-            if (view.disc[f] < 0) {
+            if (view.tip[f] >= 0) {
+              model.tip_mass[static_cast<std::size_t>(4 * view.en[view.node[f]] + view.branch[f])] += wt * rho * nv(f);
+            } else if (view.disc[f] < 0) {
               model.node_mass[static_cast<std::size_t>(view.en[view.node[f]])] += wt * rho * nv(f);
             } else {
               const int en = view.en[view.node[f]];
@@ -1337,6 +1584,11 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
           for (int c = 0; c < 2; ++c)
             if (d.gravity[c] != 0.0)
               add_dof(model.enriched_dof[2 * e2 + static_cast<std::size_t>(c)], model.enrichment_mass[e2] * d.gravity[c]);
+      if (tips)
+        for (std::size_t e2 = 0; e2 < 2 * n2; ++e2)
+          for (int c = 0; c < 2; ++c)
+            if (d.gravity[c] != 0.0)
+              add_dof(model.tip_dof[2 * e2 + static_cast<std::size_t>(c)], model.tip_mass[e2] * d.gravity[c]);
       flush(-1);
     }
     for (std::size_t l = 0; l < d.loads.size(); ++l) {
@@ -1737,6 +1989,17 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
     const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
     for (int c = 0; c < 2; ++c) jump[c] += 2.0 * na * coefficient(v, s.u.data(), true, f, c);
   }
+  // Near a tip of this crack: of the four branch functions only F_1 = √r sin(θ/2) jumps, by 2√r.
+  for (int f = 0; f < v.count; ++f) {
+    if (v.tip[f] < 0 || v.branch[f] != 0) continue;
+    const PlateModel::Tip& tip = m.tips[static_cast<std::size_t>(v.tip[f])];
+    if (tip.crack != crack) continue;
+    double r = 0.0, theta = 0.0;
+    xfem::tip_polar(frame_of(tip), {x, y}, r, theta);
+    const int a = v.node[f];
+    const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
+    for (int c = 0; c < 2; ++c) jump[c] += 2.0 * std::sqrt(r) * na * coefficient(v, s.u.data(), true, f, c);
+  }
   Point2 closest{}, dir{};
   xfem::polyline_closest(d.discontinuities[static_cast<std::size_t>(crack)].points, {x, y}, closest, dir);
   // Normal: left of the direction (towards the positive side).
@@ -1747,7 +2010,7 @@ int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPla
   if (!m.built || i < 0 || j < 0 || i >= m.desc.cells[0] || j >= m.desc.cells[1]) return 0;
   CellView v;
   make_view(m, i, j, v);
-  if (v.cut < 0) {
+  if (v.cut < 0 && v.tip_cell < 0) {
     if (v.material < 0) return 0;
     PlateCellPiece& p = out[0];
     p = PlateCellPiece{};
@@ -1756,26 +2019,22 @@ int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPla
     p.material = v.material;
     return 1;
   }
-  // The cut cell's pieces as for_each_point integrates them.
+  // The cut (or tip) cell's pieces as for_each_point integrates them.
+  xfem::TrianglePiece pieces[kMaxPieces];
+  int triangle[kMaxPieces];
+  const int n = triangle_pieces(m, v, pieces, triangle);
   int count = 0;
-  for (int t = 0; t < 4; ++t) {
-    Point2 tri[3];
-    sub_triangle(t, tri);
-    const double phi[3] = {v.phi[t], v.phi[(t + 1) % 4], v.phi[4]};
-    xfem::TrianglePiece pieces[3];
-    const int n = xfem::split_triangle(tri, phi, pieces);
-    for (int k = 0; k < n; ++k) {
-      const xfem::TrianglePiece& q = pieces[k];
-      const int material = material_of(m, v, q.side);
-      const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
-      const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
-      if (material < 0 || e1x * e2y - e1y * e2x == 0.0) continue;
-      PlateCellPiece& p = out[count++];
-      p = PlateCellPiece{};
-      p.corners = 3;
-      for (int a = 0; a < 3; ++a) p.xi[a] = q.v[a][0], p.eta[a] = q.v[a][1];
-      p.triangle = t, p.side = q.side, p.material = material;
-    }
+  for (int k = 0; k < n && count < kPlateMaxCellPieces; ++k) {
+    const xfem::TrianglePiece& q = pieces[k];
+    const int material = material_of(m, v, q.side);
+    const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
+    const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
+    if (material < 0 || e1x * e2y - e1y * e2x == 0.0) continue;
+    PlateCellPiece& p = out[count++];
+    p = PlateCellPiece{};
+    p.corners = 3;
+    for (int a = 0; a < 3; ++a) p.xi[a] = q.v[a][0], p.eta[a] = q.v[a][1];
+    p.triangle = triangle[k], p.side = q.side, p.material = material;
   }
   return count;
 }
@@ -1818,6 +2077,96 @@ bool plate_point_basis(const PlateModel& m, int i, int j, double xi, double eta,
     for (int c = 0; c < 2; ++c) out.dof[f][c] = view.dof[f][c], out.held[f][c] = view.held[f][c];
   }
   return true;
+}
+
+void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack, bool at_end, double radius, double k[2]) {
+  k[0] = k[1] = std::numeric_limits<double>::quiet_NaN();
+  const PlateModel::Tip* tip = nullptr;
+  for (const PlateModel::Tip& t : m.tips)
+    if (t.crack == crack && t.at_end == at_end) tip = &t;
+  if (!m.built || tip == nullptr || !std::isfinite(radius) || !(radius > 0.0)) return;
+  const PlateDesc& d = m.desc;
+  const int nx = d.cells[0], ny = d.cells[1];
+  auto q_of = [&](int n) {
+    const double dx = node_coord(d.min[0], d.max[0], n % (nx + 1), nx) - tip->origin[0];
+    const double dy = node_coord(d.min[1], d.max[1], n / (nx + 1), ny) - tip->origin[1];
+    return dx * dx + dy * dy <= radius * radius ? 1.0 : 0.0;
+  };
+  // q must vanish on the domain's boundary (the crack faces are traction free).
+  for (int i = 0; i <= nx; ++i)
+    if (q_of(i) != 0.0 || q_of(ny * (nx + 1) + i) != 0.0) return;
+  for (int j = 0; j <= ny; ++j)
+    if (q_of(j * (nx + 1)) != 0.0 || q_of(j * (nx + 1) + nx) != 0.0) return;
+  const xfem::TipFrame frame = frame_of(*tip);
+  const double c = tip->cos_a, sn = tip->sin_a;
+  // The cells that can hold ∇q ≠ 0: those within the radius plus one cell of the tip.
+  const int i0 = std::max(0, static_cast<int>(std::floor((tip->origin[0] - radius - d.min[0]) / m.cell_size[0])) - 1);
+  const int i1 = std::min(nx - 1, static_cast<int>(std::ceil((tip->origin[0] + radius - d.min[0]) / m.cell_size[0])) + 1);
+  const int j0 = std::max(0, static_cast<int>(std::floor((tip->origin[1] - radius - d.min[1]) / m.cell_size[1])) - 1);
+  const int j1 = std::min(ny - 1, static_cast<int>(std::ceil((tip->origin[1] + radius - d.min[1]) / m.cell_size[1])) + 1);
+  double integral[2] = {0.0, 0.0};
+  double e_star = 0.0;
+  CellView v;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      make_view(m, i, j, v);
+      double q[4];
+      for (int a = 0; a < 4; ++a) q[a] = q_of(v.en[a]);
+      if (q[0] == q[1] && q[1] == q[2] && q[2] == q[3]) continue;  // ∇q = 0
+      const double area = 0.25 * m.cell_size[0] * m.cell_size[1];
+      for_each_point(m, v, [&](double xi, double eta, double w, int tri, int side, int material) {
+        BasisAt basis;
+        evaluate(m, v, xi, eta, tri, side, basis);
+        double gu[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+        for (int f = 0; f < v.count; ++f)
+          for (int comp = 0; comp < 2; ++comp) {
+            const double u = coefficient(v, s.u.data(), true, f, comp);
+            gu[comp][0] += basis.dx[f] * u;
+            gu[comp][1] += basis.dy[f] * u;
+          }
+        const double* dd = m.material_elasticity[static_cast<std::size_t>(material)].data();
+        const double eps[3] = {gu[0][0], gu[1][1], gu[0][1] + gu[1][0]};
+        double sig[3];
+        for (int r = 0; r < 3; ++r) sig[r] = dd[3 * r] * eps[0] + dd[3 * r + 1] * eps[1] + dd[3 * r + 2] * eps[2];
+        double gq[2] = {0.0, 0.0};
+        for (int a = 0; a < 4; ++a) {
+          gq[0] += q[a] * 0.25 * kXi[a] * (1.0 + eta * kEta[a]) * (2.0 / m.cell_size[0]);
+          gq[1] += q[a] * 0.25 * kEta[a] * (1.0 + xi * kXi[a]) * (2.0 / m.cell_size[1]);
+        }
+        // Into the tip frame: R = [[c, s], [−s, c]]; σ' = R σ Rᵀ, ∇u' = R ∇u Rᵀ, ∇q' = R ∇q.
+        const double rm[2][2] = {{c, sn}, {-sn, c}};
+        const double sg[2][2] = {{sig[0], sig[2]}, {sig[2], sig[1]}};
+        double sl[2][2], gl[2][2];
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b) {
+            sl[a][b] = gl[a][b] = 0.0;
+            for (int p = 0; p < 2; ++p)
+              for (int r = 0; r < 2; ++r) {
+                sl[a][b] += rm[a][p] * sg[p][r] * rm[b][r];
+                gl[a][b] += rm[a][p] * gu[p][r] * rm[b][r];
+              }
+          }
+        const double sig_local[3] = {sl[0][0], sl[1][1], sl[0][1]};
+        const double gq_local[2] = {c * gq[0] + sn * gq[1], -sn * gq[0] + c * gq[1]};
+        double r = 0.0, theta = 0.0;
+        xfem::tip_polar(frame, physical(v, xi, eta), r, theta);
+        if (r == 0.0) return;
+        // The material's E and ν from its D (plane strain: D00 = λ + 2μ, D01 = λ; plane stress likewise with λ*).
+        const double mu = dd[8], lambda = dd[1];
+        const double nu = d.plane == PlateDesc::Plane::strain ? lambda / (2.0 * (lambda + mu)) : lambda / (lambda + 2.0 * mu);
+        const double e = 2.0 * mu * (1.0 + nu);
+        const double kappa = xfem::kolosov(nu, d.plane == PlateDesc::Plane::strain);
+        e_star = d.plane == PlateDesc::Plane::strain ? e / (1.0 - nu * nu) : e;
+        for (int mode = 0; mode < 2; ++mode) {
+          const xfem::WilliamsField aux = xfem::williams_field(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mu, kappa, r, theta);
+          integral[mode] += w * area * xfem::interaction_integrand(sig_local, gl, aux, gq_local);
+        }
+      });
+    }
+  if (e_star == 0.0) return;  // q = 0 everywhere: no node within the radius
+  // I = 2 (K_I K_I^aux + K_II K_II^aux) / E*.
+  k[0] = 0.5 * e_star * integral[0];
+  k[1] = 0.5 * e_star * integral[1];
 }
 
 int plate_point_region(const PlateDesc& d, double x, double y, double tolerance) {
@@ -1896,6 +2245,12 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
               e.potential -= m.enrichment_mass[static_cast<std::size_t>(2 * n + sl)] * m.desc.gravity[c] *
                              s.u[static_cast<std::size_t>(dof)];
           }
+        if (!m.tip_mass.empty())
+          for (int b = 0; b < 4; ++b) {
+            const int dof = m.tip_dof[static_cast<std::size_t>(8 * n + 2 * b + c)];
+            if (dof >= 0)
+              e.potential -= m.tip_mass[static_cast<std::size_t>(4 * n + b)] * m.desc.gravity[c] * s.u[static_cast<std::size_t>(dof)];
+          }
       }
   return e;
 }
@@ -1917,6 +2272,11 @@ double plate_momentum(const PlateModel& m, const PlateState& s, int component) {
       for (int sl = 0; sl < 2; ++sl) {
         const int dof = m.enriched_dof[static_cast<std::size_t>(2 * (2 * n + sl) + component)];
         if (dof >= 0) p += m.enrichment_mass[static_cast<std::size_t>(2 * n + sl)] * s.v[static_cast<std::size_t>(dof)];
+      }
+    if (!m.tip_mass.empty())
+      for (int b = 0; b < 4; ++b) {
+        const int dof = m.tip_dof[static_cast<std::size_t>(8 * n + 2 * b + component)];
+        if (dof >= 0) p += m.tip_mass[static_cast<std::size_t>(4 * n + b)] * s.v[static_cast<std::size_t>(dof)];
       }
   }
   return p;
