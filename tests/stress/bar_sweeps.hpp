@@ -34,10 +34,12 @@
 // force with a kink: opening from g_n < 0 to g_{n+1} > 0 gives
 // R = ½ k |g_n| g_{n+1} > 0 (the compressive force of t_n is averaged over the
 // whole separation: energy gained), closing gives R = −½ k g_n |g_{n+1}| < 0
-// (energy lost). Nothing in the scheme bounds ΣR, so the bound asked of a
-// unilateral case is the same E ≤ E0 + W + ε·A: energy gained at switches is
-// what this suite measures, not a tolerance. The test computes R itself from
-// the gaps and the active set the kernel reports.
+// (energy lost). Nothing in the scheme bounds ΣR; the kernel's energy rule
+// (bar_step()) takes R − D out of the velocity where it is positive, so the
+// bound asked of a unilateral case is the same E ≤ E0 + W + ε·A, and the
+// identity above is checked with that taken out. The test computes R and D
+// itself from the gaps, the active set and the interface force a holds (r is
+// also k·g after an opening the kernel held to the step's end).
 #pragma once
 #include <Eigen/Dense>
 #include <algorithm>
@@ -162,6 +164,9 @@ struct BarOutcome {
   double switching_gain = 0;  ///< Σ max(R, 0)/A: energy gained at openings
   double switching_net = 0;   ///< ΣR/A at the end
   double dissipated = 0;      ///< ΣD/A at the end
+  double removed = 0;         ///< Σ max(R − D, 0)/A: what the unilateral energy rule took out (unsplit steps)
+  double kernel_removed = 0;  ///< the same as the kernel reports it (BarWorkspace::last_energy_removed), printed only
+  double left = 0;            ///< Σ BarWorkspace::last_energy_left / A: gains the rule could not take out
   std::int64_t switches = 0;  ///< changes of the active set
   std::int64_t split_steps = 0;  ///< steps the kernel split at interface events (Newmark (¼, ½) only)
   std::int64_t split_with_varying_force = 0;  ///< of those, steps whose tip force changed (not checked)
@@ -240,7 +245,8 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
   double ehat_prev = ehat0, worst_split = 0;
   double g0 = bar_interface_gap(m, st);
   std::int32_t closed0 = st.interface_closed;
-  double work = 0, sum_r = 0, sum_d = 0, gain = 0, available = e0, peak = e0;
+  double force_in_a = interface_force(g0, closed0);
+  double work = 0, sum_r = 0, sum_d = 0, gain = 0, available = e0, peak = e0, removed = 0, kernel_removed = 0, left = 0;
   // Raw extremes (J), divided by the scales once they are known at the end.
   double worst_excess = 0, worst_identity = 0;
 
@@ -290,11 +296,21 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
       work += du[tip] * ((1 - gamma) * f0 + gamma * f1);
       if (m.base_dof >= 0) {
         const auto b = static_cast<std::size_t>(m.base_dof);
-        work -= c * du[b] * ((1 - gamma) * v0[b] + gamma * st.v[b]);
+        // The base's velocity at the step's end as the scheme computed it,
+        // from the accelerations: a unilateral interface's energy rule may
+        // change v after the step, an instantaneous change the dashpot does
+        // no work in.
+        const double vb1 = v0[b] + dt * ((1 - gamma) * a0[b] + gamma * st.a[b]);
+        work -= c * du[b] * ((1 - gamma) * v0[b] + gamma * vb1);
       }
       // Switching term and numerical dissipation of this step.
-      const double r0 = interface_force(g0, closed0), r1 = interface_force(g1, closed1);
-      const double rstep = 0.5 * (r1 * g1 - r0 * g0) - (g1 - g0) * 0.5 * (r0 + r1);
+      // r: the interface force a holds, k·g while the spring acts, and also
+      // after an opening held to the step's end (BarWorkspace::last_held_open);
+      // φ: its energy, ½k g² while the set is closed.
+      const double r0 = force_in_a, r1 = ws.last_held_open ? k * g1 : interface_force(g1, closed1);
+      const double phi0 = 0.5 * interface_force(g0, closed0) * g0, phi1 = 0.5 * interface_force(g1, closed1) * g1;
+      const double rstep = (phi1 - phi0) - (g1 - g0) * 0.5 * (r0 + r1);
+      force_in_a = r1;
       const double dstep =
           gamma == 0.5 ? 0.0
                        : (gamma - 0.5) * (m.stiffness.quadratic(du.data()) + (g1 - g0) * (r1 - r0) +
@@ -302,6 +318,14 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
       sum_r += rstep;
       sum_d += dstep;
       gain += std::max(rstep, 0.0);
+      // A unilateral interface's energy rule (bar_step()) takes out what the
+      // step would gain, R − D when positive: computed here from the gaps, not
+      // read from the kernel, so the identity below checks the rule too.
+      // Where the velocity could not give it all (BarWorkspace::
+      // last_energy_left, summed apart and printed), less that.
+      if (m.unilateral) removed += std::max(rstep - dstep, 0.0) - ws.last_energy_left;
+      left += ws.last_energy_left;
+      kernel_removed += ws.last_energy_removed;
 
       e = energy();
       ehat = e + algorithmic_term();
@@ -313,7 +337,7 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
     available = std::max(available, e0 + work);
     peak = std::max(peak, e);
     if (s == StepStatus::ok) worst_excess = std::max(worst_excess, e - ehat0 - work);
-    worst_identity = std::max(worst_identity, std::abs(ehat - ehat0 - work - sum_r + sum_d));
+    worst_identity = std::max(worst_identity, std::abs(ehat - ehat0 - work - sum_r + sum_d + removed));
 
     u0 = st.u;
     v0 = st.v;
@@ -321,6 +345,7 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
     f0 = f1;
     g0 = g1;
     closed0 = closed1;
+    if (ws.last_events > 0) force_in_a = interface_force(g1, closed1);
     ehat_prev = ehat;
   }
   o.scale = available;
@@ -330,6 +355,9 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
   o.switching_gain = gain / available;
   o.switching_net = sum_r / available;
   o.dissipated = sum_d / available;
+  o.removed = removed / available;
+  o.kernel_removed = kernel_removed / available;
+  o.left = left / available;
   o.worst_split_excess = worst_split / available;
   return o;
 }
@@ -348,35 +376,30 @@ inline void print_outcome(const char* label, const BarOutcome& o) {
   }
   std::printf(
       "  %s | %s | cond %.1e eps %.1e | (E-E0-W)/A %.2e identity %.1e peak E/A %.3g | switches %lld gain %.2e "
-      "net %+.2e D %.2e | split %lld worst %.1e\n",
+      "net %+.2e D %.2e removed %.2e (kernel %.2e, left %.2e) | split %lld worst %.1e\n",
       label, flag_text(o.flags).c_str(), o.condition, o.epsilon, o.worst_excess, o.worst_identity, o.peak_energy,
-      static_cast<long long>(o.switches), o.switching_gain, o.switching_net, o.dissipated,
+      static_cast<long long>(o.switches), o.switching_gain, o.switching_net, o.dissipated, o.removed, o.kernel_removed, o.left,
       static_cast<long long>(o.split_steps), o.worst_split_excess);
 }
 
 /// The assertions every case makes. The suite's contract: bounded or reported.
 /// Beyond it, what theory says of the accepted (β, γ): the kernel's step obeys
 /// the energy identity above to round-off (|residual| ≤ ε relative to the
-/// largest energy of the run); a tied interface never reports (a linear system
-/// under an unconditionally stable scheme); a unilateral one settles its active
-/// set (one spring: at most two solves), so it never reports that.
+/// largest energy of the run), with what a unilateral interface's energy rule
+/// takes out computed from the gaps (R − D where positive); no case reports
+/// (a tied interface is a linear system under an unconditionally stable
+/// scheme; a unilateral one's gains are taken out) and every case is bounded.
 inline void expect_case(const char* label, const BarDesc& d, const BarOutcome& o) {
   ASSERT_TRUE(o.built) << label << ": " << o.build_message;
   EXPECT_TRUE(o.bounded() || o.reported())
       << label << ": (E - E0 - W)/A reached " << o.worst_excess << " > eps " << o.epsilon
       << " with no status; switching gain " << o.switching_gain << ", net " << o.switching_net << ", peak E/A "
       << o.peak_energy;
-  if (d.interface && d.interface->behaviour == BarInterfaceDesc::Behaviour::unilateral) {
-    // The reports a unilateral interface may give: an event the stepper could
-    // not locate to round-off (bar_step()), and the energy check's, for the
-    // gain at switches no scheme but the split (¼, ½) one takes out. What
-    // follows a report is not checked.
-    EXPECT_EQ(without(o.flags, StepStatus::active_set_not_converged | StepStatus::energy_growth), StepStatus::ok)
-        << label << ": " << flag_text(o.flags) << " at step " << o.first_flag_step;
-    if (o.reported()) return;
-  } else {
-    EXPECT_EQ(o.flags, StepStatus::ok) << label << ": " << flag_text(o.flags) << " at step " << o.first_flag_step;
-  }
+  // Neither interface reports: a unilateral one's switches that could not be
+  // placed, and what any switch gains, are taken out by bar_step()'s energy
+  // rule, so its energy never rises either.
+  EXPECT_EQ(o.flags, StepStatus::ok) << label << ": " << flag_text(o.flags) << " at step " << o.first_flag_step;
+  EXPECT_TRUE(o.bounded()) << label << ": (E - E0 - W)/A reached " << o.worst_excess << " > eps " << o.epsilon;
   if (o.finite) {
     EXPECT_LE(o.worst_identity, o.epsilon) << label;
     EXPECT_LE(o.worst_split_excess, o.epsilon) << label << ": a step split at interface events gained energy";

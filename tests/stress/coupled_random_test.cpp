@@ -10,18 +10,12 @@
 //
 // CoupledStress.RandomizedCaseVariants draws tied interfaces and the abm4,
 // abm4_events and rk4 integrators. CoupledStress.
-// RandomizedUnilateralAndSymplecticVariants draws unilateral interfaces (60 %)
-// and all five integrators, verlet and symplectic_euler included, with these
-// restrictions (each a known gap of docs/stability.md, found by this sweep):
-//   - a unilateral interface under (¼, ½), whose events are located, or the
-//     paper's (0.4, 0.6) only: under other (β, γ) the switching gain at its
-//     openings is integrated over and left to the scheme's dissipation, which
-//     did not keep up (0.25–0.79 of A at 1.1–1.17 times the stability
-//     boundary, 2.9e-3 at 1.02 times, 8.6e-3 at γ = 0.5024);
-//   - the conforming mesh with a unilateral interface not within 1e-3 of an
-//     element from a node (its sliver element: active_set_not_converged in
-//     1/30 to 23/30 of the variants from 1e-4 down to 1e-12, blow-ups from
-//     1e-8 down);
+// RandomizedUnilateralAndSymplecticVariants draws unilateral interfaces (60 %),
+// under every (β, γ) the tied sweep draws, on both meshes, cuts down to 1e-12
+// of an element from a node, and all five integrators, verlet and
+// symplectic_euler included; CoupledStress.RandomizedUnilateralSliverVariants
+// draws only unilateral interfaces, every one 1e-12 … 1e-8 of an element from a
+// node. Their restrictions (each a known gap of docs/stability.md):
 //   - "on a node" exactly on the mesh's node (see DrawOptions::exact_nodes);
 //   - dt also within the network limit of two stacked particles
 //     (build_variant);
@@ -77,6 +71,8 @@ struct DrawOptions {
   /// variant of this sweep, cut 1.4e-15, gained 0.049 of A with energy_growth).
   bool exact_nodes = false;
   bool network_dt = false;  ///< dt within the two-particle column's network limit too (build_variant)
+  /// Every interface 1e-12 … 1e-8 of an element from a node (either side).
+  bool sliver = false;
 };
 
 Variant draw_variant(Draw& r, const DrawOptions& options = {}) {
@@ -94,18 +90,14 @@ Variant draw_variant(Draw& r, const DrawOptions& options = {}) {
   const double h = b.length / b.elements;
   const int node = r.integer(1, b.elements - 1);
   const bool unilateral = options.unilateral > 0 && r.chance(options.unilateral);
-  // The conforming mesh with a unilateral interface is not drawn within 1e-3
-  // of an element from a node (docs/stability.md, Known gaps: its sliver
-  // element's unresolved mode makes the gap noisy at the resolution of the
-  // event location).
-  const bool fem_unilateral = unilateral && b.method == BarDesc::Method::fem;
   double position = 0;
-  const double where = r.unit();
+  const double where = options.sliver ? 0.5 : r.unit();
   if (where < 0.4) {
     position = r.uniform(0.01, 0.99) * b.length;
   } else if (where < 0.85) {  // a hair from a node, either side, down to 1e-12 of an element
-    const double offset = h * (fem_unilateral ? r.log_uniform(1e-3, 1e-1) : r.log_uniform(1e-12, 1e-3));
-    position = node * h + (r.chance(0.5) ? offset : -offset);
+    const double offset = h * (options.sliver ? r.log_uniform(1e-12, 1e-8) : r.log_uniform(1e-12, 1e-3));
+    const double at = options.exact_nodes ? b.length * node / b.elements : node * h;
+    position = at + (r.chance(0.5) ? offset : -offset);
   } else {
     position = options.exact_nodes ? b.length * node / b.elements : node * h;
   }
@@ -116,13 +108,7 @@ Variant draw_variant(Draw& r, const DrawOptions& options = {}) {
   if (scheme < 0.35) {
     b.gamma = 0.5;
     b.beta = 0.25;
-  } else if (scheme < 0.6 || unilateral) {
-    // A unilateral interface's switching gain, ½k|g_n|g_{n+1} at every
-    // opening, is located and taken out only under (¼, ½); other schemes
-    // integrate across the switch and leave it to their dissipation, which
-    // for (β, γ) drawn in general does not keep up (docs/stability.md, Known
-    // gaps: 0.25–0.79 of A at 1.1–1.17 times the boundary, γ 0.54–0.59). With
-    // a unilateral interface only the paper's (0.4, 0.6) is drawn besides.
+  } else if (scheme < 0.6) {
     b.gamma = 0.6;
     b.beta = 0.4;
   } else {
@@ -205,6 +191,9 @@ struct SweepResult {
   std::int64_t passes = 0, steps = 0;
   int peak_passes = 0;
   int unilateral = 0, events = 0;  ///< variants with a unilateral interface; located bar events, all steps
+  int unlocated = 0;               ///< bar switches not placed at the zero (BarWorkspace::last_unlocated)
+  int ruled = 0;                   ///< variants whose bar energy rule took energy out
+  double worst_removed = 0;        ///< largest Σ energy the rule took out, of A
 };
 
 /// Runs `variants` variants drawn from `seed`, asserting on each. With the
@@ -236,7 +225,7 @@ SweepResult run_sweep(std::uint64_t seed, int variants, const DrawOptions& optio
     const double p0 = testing::particle_momentum(m, w.state);
     double weight = 0;
     for (std::int32_t i = 0; i < m.dem.n; ++i) weight += m.dem.mass[i] * v.desc.dem.gravity[0];
-    double gravity = 0, scale = 0, highest = 0, largest_momentum = std::fabs(p0);
+    double gravity = 0, scale = 0, highest = 0, largest_momentum = std::fabs(p0), removed = 0;
     StepStatus flags = StepStatus::ok;
     std::int64_t first = -1, first_rise = -1;
     const double bound = 1e-12 * (available + std::fabs(e0));
@@ -258,9 +247,13 @@ SweepResult run_sweep(std::uint64_t seed, int variants, const DrawOptions& optio
                     testing::total_energy(m, w.state) - e0);
       out.passes += w.state.last_passes;
       out.events += w.workspace.bar.last_events;
+      out.unlocated += w.workspace.bar.last_unlocated;
+      removed += w.workspace.bar.last_energy_removed;
       ++out.steps;
     }
     out.peak_passes = std::max(out.peak_passes, w.state.peak_passes);
+    if (removed > 0) ++out.ruled;
+    out.worst_removed = std::max(out.worst_removed, removed / available);
     if (verbose)
       std::printf("variant %d: %s | cut %.3g dt %.4g | flags %s from step %lld | rise/A %.3g from step %lld | peak passes %d\n",
                   k, v.text.c_str(), std::min(m.bar.cut_fraction, 1 - m.bar.cut_fraction), m.dt, flag_text(flags).c_str(), static_cast<long long>(first),
@@ -301,23 +294,41 @@ SweepResult run_sweep(std::uint64_t seed, int variants, const DrawOptions& optio
   }
   std::printf("%d variants built (%d unilateral), %d with contact; worst (E - E0)/A %.2e (symplectic Euler, not "
               "bounded: %.2e), unbalanced impulse %.2e, particle momentum books %.2e of the largest impulse; passes "
-              "per step %.3f (peak %d); bar events located %d\n",
+              "per step %.3f (peak %d); bar events located %d, not placed %d; energy rule in %d variants, at most "
+              "%.2e of A\n",
               out.built, out.unilateral, out.contacts, out.worst_energy, out.worst_symplectic_euler, out.worst_ledger,
               out.worst_particles,
               static_cast<double>(out.passes) / static_cast<double>(std::max<std::int64_t>(out.steps, 1)),
-              out.peak_passes, out.events);
+              out.peak_passes, out.events, out.unlocated, out.ruled, out.worst_removed);
   return out;
 }
 
 TEST(CoupledStress, RandomizedCaseVariants) { run_sweep(0x14c0ffeeull, 300, {}); }
 
-TEST(CoupledStress, RandomizedUnilateralAndSymplecticVariants) {
+/// The unilateral sweeps' draws: `unilateral` of the interfaces unilateral,
+/// all five integrators, on-node cuts on the mesh's node, dt within the
+/// two-particle network limit.
+DrawOptions unilateral_options(double unilateral, bool sliver) {
   DrawOptions options;
-  options.unilateral = 0.6;
+  options.unilateral = unilateral;
   options.symplectic = true;
   options.exact_nodes = true;
   options.network_dt = true;
-  run_sweep(0x14a1a7e2a1ull, 300, options);
+  options.sliver = sliver;
+  return options;
+}
+
+TEST(CoupledStress, RandomizedUnilateralAndSymplecticVariants) {
+  run_sweep(0x14a1a7e2a1ull, 300, unilateral_options(0.6, false));
+}
+
+// Every variant unilateral, its interface 1e-12 … 1e-8 of an element from a
+// node of either mesh, under every (β, γ) the sweeps draw: the sliver
+// element's unresolved mode makes switches that cannot be placed at the zero,
+// and (β, γ) other than (¼, ½) integrate across every switch. Both are left to
+// the bar's energy rule (bar_step()): 0 flags and no rise, as above.
+TEST(CoupledStress, RandomizedUnilateralSliverVariants) {
+  run_sweep(0x51175e11ull, 150, unilateral_options(1.0, true));
 }
 
 }  // namespace

@@ -261,6 +261,9 @@ TEST(Unilateral, ReportsActiveSetNotConverged) {
 // (E − W reached the bar's peak energy, 6–9 steps flagged); at 1e-10, 3.4e-7
 // of it. The switch now moves a by k·gap along M⁻¹g (bar.cpp,
 // step_with_events): every event is exact (E − W within 1e-11 of the peak).
+// Cuts within 1e-6 of an element from a node are no longer split at all (the
+// coupled sweep's X-FEM slivers blew up in substeps); they take whole steps
+// under the energy rule, and are held to the same bound.
 TEST(Unilateral, EventsAtASliverCutConserveEnergy) {
   for (double offset : {1e-3, 1e-10, 1e-11, 1e-12, -1e-12}) {
     BarDesc d;
@@ -293,7 +296,13 @@ TEST(Unilateral, EventsAtASliverCutConserveEnergy) {
     }
     std::printf("  cut %.0e of an element from node 15: %d events, max (E - W)/peak %.2e\n", offset, events,
                 worst / peak);
-    EXPECT_GT(events, 0);
+    // A cut within 1e-6 of an element from a node takes whole steps under the
+    // energy rule (bar_step()): no events there, the same bound.
+    if (std::abs(offset) >= 1e-6) {
+      EXPECT_GT(events, 0);
+    } else {
+      EXPECT_EQ(events, 0);
+    }
     EXPECT_LE(worst, 1e-10 * peak);
   }
 }

@@ -69,8 +69,8 @@ struct BarDesc {
   int max_active_set_iterations = 8;
   /// Unilateral interface: at most this many openings and closings located
   /// inside one step (each ends a substep exactly where the gap is zero; see
-  /// bar_step()). Beyond it the rest of the step keeps the last active set and
-  /// reports active_set_not_converged.
+  /// bar_step()). Beyond it the step is taken whole, under the energy rule of
+  /// bar_step(), and counted in BarWorkspace::last_unlocated.
   int max_interface_events = 64;
   /// The energy balance check of bar_step(): Ê ≤ Ê0 + W (see BarState::energy).
   EnergyCheck energy_check;
@@ -137,6 +137,10 @@ struct BarModel {
   /// changes a by k·gap times this (the spring's force at the switch, about
   /// zero), instead of re-solving M a = f − C v − K u. Empty unless unilateral.
   std::vector<double> gap_unit_acceleration;
+  /// Unilateral only, for the energy rule of bar_step(): 1ᵀM1 (the bar's
+  /// mass over its unknowns) and M⁻¹e_base (absorbing base; empty otherwise).
+  double total_mass = 0.0;
+  std::vector<double> base_unit_acceleration;
   /// True when a step is linear in BarInput::tip_force (a tied interface or
   /// none: no active set to change). Then tip_response_{u,v,a} hold how the end
   /// of one bar_resolve_acceleration + bar_step changes per newton of tip force
@@ -204,6 +208,8 @@ struct BarWorkspace {
   // Unilateral interface only: the state a substep starts from, and the
   // effective matrix of a substep's length with its factor.
   std::vector<double> u_start, v_start, a_start;
+  /// Unilateral interface only: the state the step started from.
+  std::vector<double> u_step, v_step, a_step;
   xfem::SymmetricBand substep_matrix;
   xfem::BandLdlt substep_factor;
   /// Diagnostics of the last bar_step(): interface events located in it (0: one
@@ -230,6 +236,19 @@ struct BarWorkspace {
   /// gᵀ(ũ + βh²a) as the solve saw it (not gᵀu of the rounded u). An opening
   /// takes out exactly that force (step_with_events).
   double solved_gap = 0.0;
+  /// Unilateral interface, the last bar_step(): switches it could not place
+  /// where the gap is zero (the crossing not found to round-off, or more than
+  /// max_interface_events), and the energy the step's rule took out, J (both
+  /// 0 on a step that needed neither; see bar_step()).
+  int last_unlocated = 0;
+  double last_energy_removed = 0.0;
+  /// What the rule could not take out of the last step (J; 0 but where the
+  /// velocity could not give a gain that was not an opening).
+  double last_energy_left = 0.0;
+  /// 1 when the last bar_step() held the interface closed to its end and
+  /// opened it there (an opening whose gain the velocity could not give): its
+  /// a holds the spring's force k·g of the end, with g > 0.
+  int last_held_open = 0;
 };
 
 /// Validates every field (the message starts with the field's name, e.g.
@@ -253,21 +272,31 @@ BuildResult validate_bar(const BarDesc& desc);
 
 /// Advances one step of dt: loads at t_{n+1} = (step + 1)·dt.
 ///
-/// A unilateral interface whose active set changes during the step is not
-/// integrated across the change: the trapezoidal average of a force with a
-/// kink gains ½·k·|g_n|·g_{n+1} at every opening (and loses at closings), and
-/// nothing in the scheme bounds the sum. The step is instead split where the
-/// gap reaches zero (found by regula falsi on the substep length, each trial a
-/// Newmark substep with the old active set), and the rest is taken with the new
-/// one, so each substep integrates a linear system and the energy bounds of
-/// docs/stability.md hold. A step that starts with the gap at exactly zero and
-/// leaves it on the other set's side has its event at its start. A step without a change is exactly one Newmark step.
+/// A unilateral interface is a force with a kink, which Newmark's average
+/// integrates with a gain across a switch: k(1 − γ)|g_n|g_{n+1} − k(γ − ½)g_n²
+/// at an opening (a closing only loses). Under (¼, ½) a step whose active set
+/// changes is split where the gap reaches zero (regula falsi on the substep
+/// length, each trial a Newmark substep with the old set held), and each
+/// substep of a linear system conserves energy; other (β, γ), and a cut
+/// within 1e-6 of an element from a node (either mesh), take the whole step. Then, for every step of a unilateral interface,
+/// the energy rule: Ê at the end must not exceed Ê at the start plus the work
+/// booked. An excess (beyond the round-off of those terms) is taken out of the
+/// velocity, first the faces' relative velocity along g, then the rest of the
+/// motion, each keeping the bar's momentum 1ᵀMv and an absorbing base's
+/// velocity (BarWorkspace::last_energy_removed). A split step the velocity
+/// cannot pay for, or one with a switch it could not place at the zero
+/// (BarWorkspace::last_unlocated), is taken whole instead; an opening the
+/// velocity cannot pay for is taken with the spring held to the end of the
+/// step and opened there, a linear step whose ½k g² the opening then drops
+/// (BarWorkspace::last_held_open). What is still left is reported in
+/// BarWorkspace::last_energy_left (docs/stability.md says where it was seen).
+/// A step without a change is exactly one Newmark step.
 /// Every EnergyCheck::interval steps the energy balance is checked (BarState::energy).
 /// Returns ok, or
 /// energy_growth (the check found Ê above Ê0 + W by more than its tolerance,
 /// at this step or an earlier one), or
-/// active_set_not_converged (step taken with the last active set, or more than
-/// max_interface_events located in it), or
+/// active_set_not_converged (the active-set loop did not settle within
+/// max_active_set_iterations solves; step taken with the last set), or
 /// non_finite (step taken, the state holds the non-finite values), or
 /// not_built (nothing done).
 StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& workspace, const BarInput& input = {});

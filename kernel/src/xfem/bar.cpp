@@ -433,6 +433,12 @@ BuildResult build_bar_sized(const BarDesc& d, BarModel& model, BarState& state, 
     for (int i = 0; i < model.gap_terms; ++i)
       model.gap_unit_acceleration[static_cast<std::size_t>(model.gap_dof[i])] += model.gap_coeff[i];
     model.mass_factor.solve(model.gap_unit_acceleration.data());
+    for (double r : model.mass_row_sums) model.total_mass += r;
+    if (!fixed) {
+      model.base_unit_acceleration.assign(static_cast<std::size_t>(model.dofs), 0.0);
+      model.base_unit_acceleration[static_cast<std::size_t>(u_dof[0])] = 1.0;
+      model.mass_factor.solve(model.base_unit_acceleration.data());
+    }
   }
   if (!has_if || model.unilateral) {
     build_effective(false);
@@ -477,6 +483,9 @@ BuildResult build_bar_sized(const BarDesc& d, BarModel& model, BarState& state, 
     workspace.u_start.assign(n, 0.0);
     workspace.v_start.assign(n, 0.0);
     workspace.a_start.assign(n, 0.0);
+    workspace.u_step.assign(n, 0.0);
+    workspace.v_step.assign(n, 0.0);
+    workspace.a_step.assign(n, 0.0);
     workspace.substep_matrix = eff;
     workspace.substep_factor.factor(eff);
   }
@@ -607,7 +616,7 @@ PieceStart piece_start(const BarModel& m, const double* u, const double* v, doub
 /// t_end under `input`, with the scheme's weights, for which the discrete
 /// energy identity of a linear system is exact (docs/stability.md):
 /// [u_tip]·F_γ − c [u_base]·v_base,γ, with x_γ = (1 − γ) x_start + γ x_end.
-void book_work(const BarModel& m, BarState& st, const PieceStart& start, double t_end, double input) {
+double book_work(const BarModel& m, BarState& st, const PieceStart& start, double t_end, double input) {
   const double g = m.scheme.gamma;
   const double du_tip = st.u[static_cast<std::size_t>(m.tip_dof)] - start.u_tip;
   const double input_work = du_tip * ((1.0 - g) * start.input + g * input);
@@ -618,6 +627,7 @@ void book_work(const BarModel& m, BarState& st, const PieceStart& start, double 
   }
   st.energy.work += work;
   st.input_work += input_work;
+  return work;
 }
 
 /// Σ |terms of the gap|: the size of the numbers whose difference is the gap,
@@ -638,7 +648,7 @@ double gap_magnitude(const BarModel& m, const double* u) {
 /// the rest of the step is the next piece. The spring acts over a piece either
 /// throughout or not at all, so each piece integrates a linear system.
 StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force, double t_n,
-                            double t_next) {
+                            double t_next, double& booked) {
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   constexpr int kMaxIterations = 100;  // Illinois converges superlinearly; this only bounds the loop
   StepStatus status = StepStatus::ok;
@@ -662,7 +672,7 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     const double g_end = detail::bar_gap_of(m, st.u.data());
     if (agrees(closed, g_end) || !std::isfinite(g_end) || has(status, StepStatus::non_finite)) {
       book_impulse(m, ws, h_rest, net_force);
-      book_work(m, st, start, t_next, tip_force);
+      booked += book_work(m, st, start, t_next, tip_force);
       return status;
     }
     const bool starts_on_zero = g_start == 0.0 || !agrees(closed, g_start);
@@ -675,19 +685,21 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
       // start until max_interface_events (active_set_not_converged). This
       // piece is kept as it is.
       book_impulse(m, ws, h_rest, net_force);
-      book_work(m, st, start, t_next, tip_force);
+      booked += book_work(m, st, start, t_next, tip_force);
       return status;
     }
     if (ws.last_events == m.desc.max_interface_events) {
       // Out of events: the rest of the step as one plain Newmark step with the
       // other set (for one spring the gap keeps its sign when the spring is
-      // switched, so the other set agrees with the end it gives).
+      // switched, so the other set agrees with the end it gives), counted:
+      // bar_step() takes the step whole instead.
       restore_start(st, ws);
       st.interface_closed = closed == 0 ? 1 : 0;
       status |= held_substep(m, st, ws, tip_force, st.interface_closed, t_next, h_rest, net_force);
       book_impulse(m, ws, h_rest, net_force);
-      book_work(m, st, start, t_next, tip_force);
-      return status | StepStatus::active_set_not_converged;
+      booked += book_work(m, st, start, t_next, tip_force);
+      ++ws.last_unlocated;
+      return status;
     }
 
     // Bracket of the crossing in fractions of h_rest: lo agrees with the held
@@ -740,16 +752,17 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
     }
     if (hi > 0.0) {
       book_impulse(m, ws, hi * h_rest, net_force);
-      book_work(m, st, start, t_event, tip_force);
+      booked += book_work(m, st, start, t_event, tip_force);
     }
     // The switch puts ½k g² into the energy (closing) or takes it out (opening).
     // Where the crossing could not be found that closely (a gap moving too fast
     // for the floating-point resolution of the step, e.g. a sliver's phantom
     // mode), say so rather than let it add up.
+    // Such a switch is counted, and bar_step() takes the step whole instead.
     if (hi_residual > 8.0 * kEps) {
       const double g = detail::bar_gap_of(m, st.u.data());
       const double energy = 0.5 * m.mass.quadratic(st.v.data()) + elastic_energy(m, st.u.data(), 0);
-      if (0.5 * m.interface_stiffness * g * g > 16.0 * kEps * energy) status |= StepStatus::active_set_not_converged;
+      if (0.5 * m.interface_stiffness * g * g > 16.0 * kEps * energy) ++ws.last_unlocated;
     }
     ++ws.last_events;
     event_at_start = hi == 0.0;
@@ -777,17 +790,110 @@ StepStatus step_with_events(const BarModel& m, BarState& st, BarWorkspace& ws, d
   }
 }
 
+/// The energy rule of a unilateral interface (bar_step()): Ê at the end of
+/// the step must not exceed Ê at its start plus the work booked over it.
+/// Newmark guarantees that for a linear system, but not across a switch of
+/// the active set: the average of the kinked force gains k(1 − γ)|g_n|g_{n+1}
+/// − k(γ − ½)g_n² at an opening (closings only lose), and an event not placed
+/// at the zero (a sliver's unresolved mode) adds ½k g² with the gap it found.
+/// An excess ΔE beyond the round-off of the three terms is taken out, in this
+/// order, of
+///   1. the relative velocity of the two faces: v moves along g (an impact's
+///      loss of the restitution kind, only as much as is gained);
+///   2. the rest of the motion: v moves along itself.
+/// Each direction is first made to keep the bar's momentum 1ᵀMv and the
+/// absorbing base's velocity (whose dashpot force a holds), so the momentum
+/// books and a stay exact; the kinetic energy is then quadratic in the step
+/// along it, and the step is the root nearest 0 that takes out the excess, or
+/// the minimum when that does not reach it.
+/// u and a are never changed, so neither is the tip's motion, the work booked
+/// nor the forces the next step starts from.
+/// `work` is what the step booked. Returns the energy taken out; `left` is
+/// what the velocity could not give (bar_step() then holds an opening).
+double energy_rule(const BarModel& m, BarState& st, BarWorkspace& ws, double e_start, double work, double& left) {
+  left = 0.0;
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const double e_end = bar_algorithmic_energy(m, st);
+  double excess = e_end - e_start - work;
+  if (!(excess > 4.0 * kEps * (std::fabs(e_start) + std::fabs(e_end) + std::fabs(work)))) return 0.0;
+  const double removed = excess;
+  const auto n = st.v.size();
+  double* x = ws.rhs.data();      // the direction v moves along
+  double* mx = ws.u_pred.data();  // M x
+  const int b = m.base_dof;
+  const double* e = m.base_unit_acceleration.data();  // M⁻¹e_b (absorbing base)
+  // Moves v along x − μ e − ν 1 with μ, ν such that the base's velocity and
+  // 1ᵀMv do not change (the base's dashpot force in a is −c v_b: a changed
+  // v_b would leave a out of step with v), by the root nearest 0 of
+  // ½(xᵀMx) s² + (vᵀMx) s + excess (or its minimum, when that is short).
+  const auto move = [&] {
+    double p = 0.0;  // 1ᵀMx
+    for (std::size_t i = 0; i < n; ++i) p += m.mass_row_sums[i] * x[i];
+    if (b >= 0) {
+      // x_b − μ e_b − ν = 0, p − μ − ν 1ᵀM1 = 0 (1ᵀMe = 1ᵀe_b = 1)
+      const double eb = e[b], xb = x[b];
+      const double nu = (p * eb - xb) / (m.total_mass * eb - 1.0);
+      const double mu = p - nu * m.total_mass;
+      for (std::size_t i = 0; i < n; ++i) x[i] -= mu * e[i] + nu;
+      x[b] = 0.0;
+    } else {
+      const double nu = p / m.total_mass;
+      for (std::size_t i = 0; i < n; ++i) x[i] -= nu;
+    }
+    m.mass.multiply(x, mx);
+    double c = 0.0, slope = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      c += x[i] * mx[i];
+      slope += st.v[i] * mx[i];
+    }
+    if (!(c > 0.0) || slope == 0.0) return;
+    const double disc = slope * slope - 2.0 * c * excess;
+    double step = 0.0;
+    if (disc <= 0.0) {
+      step = -slope / c;
+      excess -= 0.5 * slope * slope / c;
+    } else {
+      step = -2.0 * excess / (slope + std::copysign(std::sqrt(disc), slope));
+      excess = 0.0;
+    }
+    for (std::size_t i = 0; i < n; ++i) st.v[i] += step * x[i];
+  };
+  // 1. The faces' relative velocity, along g itself (the unknowns of the
+  // gap, weighted as the gap weighs them). Not along M⁻¹g: a sliver's
+  // phantom mass makes that huge on the phantom, and the next step's
+  // predictor rounds it into energy (an X-FEM cut 1e-12 of an element from a
+  // node blew up so).
+  std::fill(x, x + n, 0.0);
+  for (int i = 0; i < m.gap_terms; ++i) x[m.gap_dof[i]] += m.gap_coeff[i];
+  move();
+  // 2. The rest of the motion, along v itself.
+  if (excess > 0.0) {
+    std::copy(st.v.begin(), st.v.end(), x);
+    move();
+  }
+  left = excess;
+  return removed - excess;
+}
+
 }  // namespace
+
+constexpr double kSliver = 1e-6;
 
 /// Interface events are located for the trapezoidal rule (β = ¼, γ = ½), the
 /// one accepted scheme with no numerical dissipation, which is energy-exact on
-/// every substep: nothing else would take out what a switch adds. For γ > ½ the
-/// algorithmic energy ½h²(β − γ/2)aᵀMa depends on the step length, so substeps
-/// of other lengths pump the unresolved modes of a sliver cut, while the whole step's
-/// numerical dissipation bounds the switching gain in the sweeps of
-/// tests/stress/bar_sweep_test.cpp.
+/// every substep. For γ > ½ the algorithmic energy ½h²(β − γ/2)aᵀMa depends
+/// on the step length, so substeps of other lengths pump the unresolved modes
+/// of a sliver cut; those schemes take whole steps under the energy rule.
 bool locates_interface_events(const BarModel& m) {
-  return m.unilateral && m.scheme.beta == 0.25 && m.scheme.gamma == 0.5;
+  if (!(m.unilateral && m.scheme.beta == 0.25 && m.scheme.gamma == 0.5)) return false;
+  // A cut within kSliver of an element from a node: the conforming mesh's
+  // sliver element is a spring of E·A/(s·h) on a node of mass ∝ s, X-FEM's
+  // sliver side a phantom of mass ∝ s; their modes, which the trapezoidal rule
+  // does not damp, move the gap faster than a substep's length resolves, and
+  // substeps pump them (coupled, X-FEM cuts of 1e-12 … 1e-8 blew up). Such a
+  // cut takes whole steps, the energy rule taking out the switch.
+  const double s = std::min(m.cut_fraction, 1.0 - m.cut_fraction);
+  return !(s > 0.0 && s < kSliver);
 }
 
 StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& workspace, const BarInput& input) {
@@ -797,31 +903,107 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   workspace.last_events = 0;
   workspace.last_factorisations = 0;
   workspace.last_external_impulse = 0.0;
+  workspace.last_unlocated = 0;
+  workspace.last_energy_removed = 0.0;
+  workspace.last_held_open = 0;
+  workspace.last_energy_left = 0.0;
   const double t_n = static_cast<double>(state.step) * model.scheme.dt;
+  // A unilateral interface's energy rule compares the end with these.
+  const double energy_start = model.unilateral ? bar_algorithmic_energy(model, state) : 0.0;
+  double work = 0.0;  // booked over the step
   const std::int32_t closed_before = state.interface_closed;
-  if (locates_interface_events(model)) save_start(state, workspace);
+  const double work_before = state.energy.work, input_work_before = state.input_work;
+  if (model.unilateral) {
+    std::copy(state.u.begin(), state.u.end(), workspace.u_step.begin());
+    std::copy(state.v.begin(), state.v.end(), workspace.v_step.begin());
+    std::copy(state.a.begin(), state.a.end(), workspace.a_step.begin());
+  }
+  const auto restore_step_start = [&] {
+    std::copy(workspace.u_step.begin(), workspace.u_step.end(), state.u.begin());
+    std::copy(workspace.v_step.begin(), workspace.v_step.end(), state.v.begin());
+    std::copy(workspace.a_step.begin(), workspace.a_step.end(), state.a.begin());
+    state.interface_closed = closed_before;
+    state.energy.work = work_before;
+    state.input_work = input_work_before;
+    workspace.last_external_impulse = 0.0;
+  };
   const PieceStart start = piece_start(model, state.u.data(), state.v.data(), t_n, state.tip_input);
   const detail::BarOperator op(model, workspace, input.tip_force, state.interface_closed);
   double net_force[2];  // 1ᵀMa at t_n and t_{n+1}
   double zero_if_finite = 0.0;  // of u, v and a, summed by the corrector
-  StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
-                                    workspace.u_pred.data(), workspace.v_pred.data(), model.mass_row_sums.data(),
-                                    net_force, &zero_if_finite);
-  if (locates_interface_events(model) && state.interface_closed != closed_before &&
-      !has(s, StepStatus::active_set_not_converged)) {
-    // The set changed within the step: take it again, in substeps that end at the change.
-    restore_start(state, workspace);
-    state.interface_closed = closed_before;
-    s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next);
-    zero_if_finite = all_finite(state.u) && all_finite(state.v) && all_finite(state.a) ? 0.0 : 1.0;
-  } else {
+  // Books a step of Δt taken in one piece.
+  const auto book_whole = [&] {
     workspace.last_start = start;
     workspace.work_before = state.energy.work;
     workspace.input_work_before = state.input_work;
     workspace.last_net_force[0] = net_force[0];
     workspace.last_net_force[1] = net_force[1];
     book_impulse(model, workspace, model.scheme.dt, net_force);
-    book_work(model, state, start, t_next, input.tip_force);
+    work = book_work(model, state, start, t_next, input.tip_force);
+  };
+  // One Newmark step of Δt, booked.
+  const auto whole_step = [&] {
+    zero_if_finite = 0.0;
+    const StepStatus status =
+        xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
+                           workspace.u_pred.data(), workspace.v_pred.data(), model.mass_row_sums.data(), net_force,
+                           &zero_if_finite);
+    book_whole();
+    return status;
+  };
+  StepStatus s = whole_step();
+  if (locates_interface_events(model) && state.interface_closed != closed_before &&
+      !has(s, StepStatus::active_set_not_converged)) {
+    // The set changed within the step: take it again, in substeps that end at the change.
+    restore_step_start();
+    work = 0.0;
+    s = step_with_events(model, state, workspace, input.tip_force, t_n, t_next, work);
+    zero_if_finite = all_finite(state.u) && all_finite(state.v) && all_finite(state.a) ? 0.0 : 1.0;
+    if (workspace.last_unlocated > 0) {
+      // A switch it could not place at the zero (a sliver's unresolved mode
+      // moves the gap faster than the substep's length resolves): substeps of
+      // a few ulps and a switch off the zero, whose gains the energy rule
+      // could only take out of the velocity. The whole step instead, whose
+      // one gain at the switch, R − D, the rule takes out.
+      restore_step_start();
+      workspace.last_events = 0;
+      s = whole_step();
+    }
+  }
+  if (model.unilateral && zero_if_finite == 0.0) {
+    double left = 0.0;
+    const auto rule = [&] {
+      left = 0.0;
+      return zero_if_finite == 0.0 ? energy_rule(model, state, workspace, energy_start, work, left) : 0.0;
+    };
+    workspace.last_energy_removed = rule();
+    if (left > 0.0 && workspace.last_events > 0) {
+      // Split, and the gain is not in the velocity (a sliver's mode pumped by
+      // substeps of a few ulps): the whole step, whose only gain is its switch.
+      restore_step_start();
+      workspace.last_events = 0;
+      s = whole_step();
+      workspace.last_energy_removed = rule();
+    }
+    if (left > 0.0 && zero_if_finite == 0.0 && closed_before != 0 && state.interface_closed == 0) {
+      // An opening whose gain the velocity cannot give (the pieces nearly at
+      // rest, the energy elastic): the step again with the spring held on
+      // throughout, a linear step whose energy cannot rise with ½k g² counted
+      // at its end, which opening the set there then drops. a keeps the
+      // spring's force of the end: it only pulls the faces together, and what
+      // it does next is booked by the same rule. (A closing gains nothing:
+      // −k(γ − ½)g_{n+1}² + kγ g_n g_{n+1} ≤ 0 for g_n ≥ 0 > g_{n+1}.)
+      restore_step_start();
+      s = held_substep(model, state, workspace, input.tip_force, 1, t_next, model.scheme.dt, net_force);
+      book_whole();
+      zero_if_finite = all_finite(state.u) && all_finite(state.v) && all_finite(state.a) ? 0.0 : 1.0;
+      if (!agrees(1, detail::bar_gap_of(model, state.u.data()))) {
+        state.interface_closed = 0;
+        workspace.last_held_open = 1;
+      }
+      workspace.last_energy_removed = rule();
+    }
+    workspace.last_energy_left = left;
   }
   state.tip_input = input.tip_force;
   state.step += 1;
