@@ -17,9 +17,15 @@
 //   5. commit and books: the trial state becomes the state (a refused step
 //      leaves it untouched), time, the network bound, the finiteness check,
 //      the planes' impulses and the energy books.
-// One part, in a fixed order: the bits do not depend on the host's workers.
+// A model of two parts (DemModel::parts) runs stages 1-4 on them as the
+// frictionless step does (granular_forces); every sum has the model's order,
+// so the bits do not depend on the host's workers.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "dem/contact_law.hpp"
 #include "dem/contact_parameters.hpp"
@@ -32,8 +38,8 @@ namespace xfdem::dem_detail {
 namespace {
 
 /// ω × n for the contact geometry: 2D ω (about z) × n = ω (−n_y, n_x).
-template <int D>
-inline void spin_cross(const double* w, const double (&n)[D], double (&out)[D]) {
+template <int D, class T>
+inline void spin_cross(const T* w, const T (&n)[D], T (&out)[D]) {
   if constexpr (D == 2) {
     out[0] = -w[0] * n[1];
     out[1] = w[0] * n[0];
@@ -45,8 +51,8 @@ inline void spin_cross(const double* w, const double (&n)[D], double (&out)[D]) 
 }
 
 /// n × F (the torque of F applied at the arm n), S components.
-template <int D>
-inline void moment(const double (&n)[D], const double (&f)[D], double (&out)[spin_components(D)]) {
+template <int D, class T>
+inline void moment(const T (&n)[D], const T (&f)[D], T (&out)[spin_components(D)]) {
   if constexpr (D == 2) {
     out[0] = n[0] * f[1] - n[1] * f[0];
   } else {
@@ -280,9 +286,9 @@ std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<
     auto forget = [&](std::int32_t i) {
       if constexpr (Kind::friction) {
         if (!keep) return;
-        bool stored = false;
-        for (int d = 0; d < D; ++d) stored |= xi_of[d][i] != 0.0;
-        if (stored) [[unlikely]]
+        std::uint64_t stored = 0;  // any bit, so that a kept −0 is zeroed as well
+        for (int d = 0; d < D; ++d) stored |= std::bit_cast<std::uint64_t>(xi_of[d][i]);
+        if (stored != 0) [[unlikely]]
           for (int d = 0; d < D; ++d) xi_of[d][i] = 0.0;
       }
     };
@@ -325,6 +331,104 @@ std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<
   }
   return active;
 }
+
+#if defined(__SSE2__)
+/// Two contacts at once in the two SSE2 lanes (x86-64 baseline). Every lane
+/// does exactly the scalar operations of pair_contact_as and
+/// tangential_force, in the same order, and takes the scalar code's branches
+/// as selects between the results it would have computed, so the bits are
+/// the scalar ones; the divider and the square roots, which dominate, issue
+/// once for both contacts.
+using V2 = double __attribute__((vector_size(16)));
+using M2 = long long __attribute__((vector_size(16)));
+
+inline V2 select(M2 mask, V2 a, V2 b) {
+  return reinterpret_cast<V2>((mask & reinterpret_cast<M2>(a)) | (~mask & reinterpret_cast<M2>(b)));
+}
+inline V2 splat(double x) { return V2{x, x}; }
+inline V2 lanes(double a, double b) { return V2{a, b}; }
+inline V2 root(V2 x) { return _mm_sqrt_pd(x); }
+inline V2 magnitude(V2 x) {  // std::fabs: the sign bit cleared
+  return reinterpret_cast<V2>(reinterpret_cast<M2>(x) & M2{0x7fffffffffffffffLL, 0x7fffffffffffffffLL});
+}
+
+/// The linear laws with Coulomb friction, no rolling resistance, for two
+/// touching pairs whose centres do not coincide (dist > 0 in both lanes).
+/// Inputs and outputs per lane as pair_contact_as; xi advanced in place.
+template <int D, bool NonTensile>
+[[gnu::always_inline]] inline void frictional_pair_x2(const LawView<D>& m, const std::int32_t (&i)[2],
+                                                      const std::int32_t (&j)[2], V2 K, V2 eta, const V2 (&dx)[D],
+                                                      V2 dist, const V2 (&vi)[D], const V2 (&vj)[D],
+                                                      const V2 (&wi)[spin_components(D)],
+                                                      const V2 (&wj)[spin_components(D)], double h, V2 (&xi)[D],
+                                                      V2 (&normal)[D], V2& fn, V2 (&ft)[D],
+                                                      V2 (&torque_i)[spin_components(D)],
+                                                      V2 (&torque_j)[spin_components(D)]) {
+  constexpr int S = spin_components(D);
+  const V2 zero = splat(0.0);
+  const V2 ri = lanes(m.radius[i[0]], m.radius[i[1]]), rj = lanes(m.radius[j[0]], m.radius[j[1]]);
+  const V2 reach = ri + rj;
+  for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
+  V2 rate = zero;
+  for (int d = 0; d < D; ++d) rate -= (vj[d] - vi[d]) * normal[d];
+  const V2 m_eff = splat(1.0) / (lanes(m.inv_mass[i[0]], m.inv_mass[i[1]]) + lanes(m.inv_mass[j[0]], m.inv_mass[j[1]]));
+  // normal_force: 0 unless δ > 0; K δ + η δ'; the non-tensile law never pulls.
+  const V2 overlap = reach - dist;
+  V2 force = K * overlap;
+  force += eta * rate;
+  if constexpr (NonTensile) force = select(force < zero, zero, force);  // std::max(force, 0.0)
+  fn = select(overlap > zero, force, zero);
+  V2 spin[S], turn[D], vt[D], vn = zero;
+  for (int k = 0; k < S; ++k) spin[k] = ri * wi[k] + rj * wj[k];
+  spin_cross<D>(spin, normal, turn);
+  for (int d = 0; d < D; ++d) {
+    vt[d] = vj[d] - vi[d] - turn[d];
+    vn += vt[d] * normal[d];
+  }
+  for (int d = 0; d < D; ++d) vt[d] -= vn * normal[d];
+  const V2 kt = splat(m.tangential_ratio) * K;
+  const V2 eta_t = splat(2.0 * m.damping_ratio) * root(kt * m_eff);
+  // tangential_force: the spring turned into the contact plane (its length kept).
+  V2 along = zero, before = zero;
+  for (int d = 0; d < D; ++d) {
+    along += xi[d] * normal[d];
+    before += xi[d] * xi[d];
+  }
+  {
+    V2 turned[D], after = zero;
+    for (int d = 0; d < D; ++d) {
+      turned[d] = xi[d] - along * normal[d];
+      after += turned[d] * turned[d];
+    }
+    const V2 keep = select(after > zero, root(before / after), zero);
+    const M2 off_plane = along != zero;
+    for (int d = 0; d < D; ++d) xi[d] = select(off_plane, turned[d] * keep, xi[d]);
+  }
+  V2 f2 = zero;
+  const V2 step = splat(h);
+  for (int d = 0; d < D; ++d) {
+    xi[d] += step * vt[d];
+    ft[d] = -kt * xi[d] - eta_t * vt[d];
+    f2 += ft[d] * ft[d];
+  }
+  const V2 cap = splat(m.friction) * magnitude(fn);
+  const M2 sliding = f2 > cap * cap;
+  if (_mm_movemask_pd(reinterpret_cast<__m128d>(sliding)) != 0) {
+    const V2 scale = cap / root(f2);
+    for (int d = 0; d < D; ++d) {
+      const V2 capped = ft[d] * scale;
+      xi[d] = select(sliding, -(capped + eta_t * vt[d]) / kt, xi[d]);
+      ft[d] = select(sliding, capped, ft[d]);
+    }
+  }
+  V2 nf[S];
+  moment<D>(normal, ft, nf);
+  for (int k = 0; k < S; ++k) {
+    torque_i[k] = -ri * nf[k];
+    torque_j[k] = -rj * nf[k];
+  }
+}
+#endif
 
 /// Pairs [begin, end) of the list, in list order. As the frictionless
 /// kernel (forces.hpp, pair_forces): listed pairs are screened in chunks
@@ -371,7 +475,50 @@ StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const Views<D>& 
       kept_dist2[hits] = dist2;
       hits += on ? 1 : 0;
     }
-    for (std::int32_t k = 0; k < hits; ++k) {
+    std::int32_t k = 0;
+#if defined(__SSE2__)
+    if constexpr (Kind::friction && !Kind::rolling && Kind::law != ContactLaw::hertz) {
+      for (; k + 1 < hits; k += 2) {
+        const std::int32_t ca = touching[k], cb = touching[k + 1];
+        const std::int32_t ii[2] = {pi[ca], pi[cb]}, jj[2] = {pj[ca], pj[cb]};
+        const V2 dist = root(V2{kept_dist2[k], kept_dist2[k + 1]});
+        if (_mm_movemask_pd(reinterpret_cast<__m128d>(dist > splat(0.0))) != 3) break;  // coincident: scalar
+        V2 dx[D], vi[D], vj[D], wi[S], wj[S], xi[D], normal[D], fn, ft[D], ti[S], tj[S];
+        for (int d = 0; d < D; ++d) {
+          dx[d] = V2{kept_dx[d][k], kept_dx[d][k + 1]};
+          vi[d] = V2{at.v[d][ii[0]], at.v[d][ii[1]]};
+          vj[d] = V2{at.v[d][jj[0]], at.v[d][jj[1]]};
+          xi[d] = V2{xi_of[d][ca], xi_of[d][cb]};
+        }
+        for (int q = 0; q < S; ++q) {
+          wi[q] = V2{at.spin[q][ii[0]], at.spin[q][ii[1]]};
+          wj[q] = V2{at.spin[q][jj[0]], at.spin[q][jj[1]]};
+        }
+        frictional_pair_x2<D, Kind::law == ContactLaw::linear_nontensile>(
+            law, ii, jj, V2{pair_k[ca], pair_k[cb]}, V2{pair_eta[ca], pair_eta[cb]}, dx, dist, vi, vj, wi, wj, h, xi,
+            normal, fn, ft, ti, tj);
+        // The contributions in list order: all of the first pair's, then the second's.
+        for (int lane = 0; lane < 2; ++lane) {
+          const std::int32_t c = lane == 0 ? ca : cb, i = ii[lane], j = jj[lane];
+          const bool far = j >= split;
+          const std::int32_t jt = far ? j - split : j;  // j's slot in its target column
+          const double mi = inv_mass[i], mj = inv_mass[j], ii_ = inv_inertia[i], ij_ = inv_inertia[j];
+          for (int d = 0; d < D; ++d) {
+            if (keep) xi_of[d][c] = xi[d][lane];
+            const double f = fn[lane] * normal[d][lane] + ft[d][lane];  // on j
+            at.a[d][i] -= f * mi;
+            (far ? cross[d] : at.a[d])[jt] += f * mj;
+          }
+          for (int q = 0; q < S; ++q) {
+            at.alpha[q][i] += ti[q][lane] * ii_;
+            (far ? cross_spin[q] : at.alpha[q])[jt] += tj[q][lane] * ij_;
+          }
+          active += fn[lane] != 0.0 ? pair_contact_tag(n, i, j) : 0;
+        }
+      }
+    }
+#endif
+    for (; k < hits; ++k) {
       const std::int32_t c = touching[k];
       const std::int32_t i = pi[c], j = pj[c];
       double dx[D], vi[D], vj[D], wi[S], wj[S], xi[D];
@@ -817,16 +964,26 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
   // Finite: every column the step wrote, the springs and the step's inputs.
+  // (zero_probe: 0 or NaN whatever the order of the sums, so parts may take it.)
   double probe = 0.0 * start_time + 0.0 * s.energy.reference + 0.0 * s.energy.work;
-  for (int d = 0; d < D; ++d) {
-    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
-    for (std::int32_t c = 0; c < s.pair_count; ++c) probe += 0.0 * s.pair_xi[d][c];
-    for (const double value : s.plane_xi[d]) probe += 0.0 * value;
+  double per_part[2] = {0, 0};
+  const int head = s.history_head;
+  over_parts(m, w, [&](std::int32_t begin, std::int32_t end) {
+    double sum = 0;
+    for (int d = 0; d < D; ++d)
+      sum += zero_probe<3>({s.x[d].data(), s.v[d].data(), s.hist_a[head][d].data()}, begin, end);
+    for (int k = 0; k < S; ++k) sum += zero_probe<2>({s.w[k].data(), s.hist_alpha[head][k].data()}, begin, end);
+    for (const auto& c : s.angle) sum += zero_probe<1>({c.data()}, begin, end);
+    per_part[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
+  });
+  probe += per_part[0] + per_part[1];
+  std::array<const double*, D> springs;
+  for (int d = 0; d < D; ++d) springs[d] = s.pair_xi[d].data();
+  probe += zero_probe<D>(springs, 0, s.pair_count);
+  for (std::size_t p = 0; p < s.plane_offset.size(); ++p) {
+    for (int d = 0; d < D; ++d) springs[d] = s.plane_xi[d].data() + p * static_cast<std::size_t>(n);
+    probe += zero_probe<D>(springs, 0, n);
   }
-  for (int k = 0; k < S; ++k)
-    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.w[k][i] + 0.0 * s.hist_alpha[s.history_head][k][i];
-  for (const auto& c : s.angle)
-    for (const double value : c) probe += 0.0 * value;
   for (std::size_t p = 0; p < s.plane_offset.size(); ++p)
     probe += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
   if (!(probe == 0.0)) status |= StepStatus::non_finite;
