@@ -59,9 +59,10 @@ BENCHMARK_CAPTURE(BM_DemDrop, verlet, DemIntegrator::verlet);
 /// The second argument, when given, is the number of workers (1 or 2); a third,
 /// when given, overrides DemDesc::split_from (0: never split, 1: always).
 /// `energy_interval` ≥ 0 overrides EnergyCheck::interval; `friction`: the
-/// frictional law of dem_packing.hpp (a kernel with friction only).
+/// frictional law of dem_packing.hpp (a kernel with friction only); `hertz`:
+/// its Hertz–Mindlin law with friction.
 void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double skin_radii, int energy_interval = -1,
-                   bool friction = false) {
+                   bool friction = false, bool hertz = false) {
   const auto n = static_cast<std::int32_t>(bench.range(0));
   const Packing& pk = packing(n);
   DemDesc<3> desc = packing_run_desc(pk, integrator, skin_radii);
@@ -70,6 +71,10 @@ void BM_DemPacking(benchmark::State& bench, DemIntegrator integrator, double ski
   if (energy_interval >= 0) desc.energy_check.interval = energy_interval;
   if (friction && !set_packing_friction(desc)) {
     bench.SkipWithError("this kernel has no friction");
+    return;
+  }
+  if (hertz && !set_packing_hertz(desc)) {
+    bench.SkipWithError("this kernel has no hertz law");
     return;
   }
   DemModel<3> model;
@@ -147,6 +152,17 @@ BENCHMARK_CAPTURE(BM_DemPacking, vs_liggghts, DemIntegrator::verlet, 0.0)
   if (!kHasFriction<DemDesc<3>>) return false;
   benchmark::RegisterBenchmark("BM_DemPacking/vs_liggghts_friction",
                                [](benchmark::State& bench) { BM_DemPacking(bench, DemIntegrator::verlet, 0.0, -1, true); })
+      ->ArgsProduct({{10000, 60000}, {1, 2}, {-1}})
+      ->UseRealTime()
+      ->Unit(benchmark::kMicrosecond);
+  return true;
+}();
+// Hertz–Mindlin with friction (tools/bench_liggghts.py --hertz).
+[[maybe_unused]] const bool kHertzRowsRegistered = [] {
+  if (!kHasHertz<DemDesc<3>>) return false;
+  benchmark::RegisterBenchmark("BM_DemPacking/vs_liggghts_hertz", [](benchmark::State& bench) {
+    BM_DemPacking(bench, DemIntegrator::verlet, 0.0, -1, false, true);
+  })
       ->ArgsProduct({{10000, 60000}, {1, 2}, {-1}})
       ->UseRealTime()
       ->Unit(benchmark::kMicrosecond);

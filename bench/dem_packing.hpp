@@ -172,6 +172,45 @@ bool set_packing_friction(Desc& desc) {
   }
 }
 
+/// The Hertz–Mindlin packing (LIGGGHTS's `model hertz tangential history`):
+/// E = 5e7 Pa (soft, so that a contact's stiffness at the packing's overlaps,
+/// about a micrometre, is near the linear law's 1000 N/m and dt stays
+/// comparable), ν = 0.25 for the spheres and the walls, restitution 0.7,
+/// μ = 0.5.
+constexpr double kPackingYoungsModulus = 5e7;
+constexpr double kPackingPoissonRatio = 0.25;
+constexpr double kPackingRestitution = 0.7;
+
+/// Whether this kernel has the hertz law with friction.
+template <class Desc>
+constexpr bool kHasHertz = kHasFriction<Desc> && requires(Desc d) { d.restitution = 0.0; };
+
+/// Gives a packing run the hertz law with friction (no stiffness, damping
+/// ratio or tangential ratio: the law derives them); false (nothing set) when
+/// the kernel has no such law.
+template <class Desc>
+bool set_packing_hertz(Desc& desc) {
+  if constexpr (kHasHertz<Desc>) {
+    desc.law = ContactLaw::hertz;
+    desc.restitution = kPackingRestitution;
+    desc.friction = kPackingFriction;
+    desc.damping_ratio = 0;
+    desc.tangential_stiffness_ratio = 0;
+    for (auto& p : desc.particles) {
+      p.stiffness = 0;
+      p.youngs_modulus = kPackingYoungsModulus;
+      p.poisson_ratio = kPackingPoissonRatio;
+    }
+    for (auto& plane : desc.planes) {
+      plane.youngs_modulus = kPackingYoungsModulus;
+      plane.poisson_ratio = kPackingPoissonRatio;
+    }
+    return true;
+  } else {
+    return false;
+  }
+}
+
 /// The packing as the benchmarks run it: ζ = 0.1, the given integrator and
 /// skin (in radii; 0: the kernel's default, half a radius). The caller may
 /// change more before build_packing_run().

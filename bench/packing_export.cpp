@@ -1,4 +1,4 @@
-// xfdem_packing_export N STEPS DIR [friction] [one_worker]
+// xfdem_packing_export N STEPS DIR [friction | hertz] [one_worker]
 //
 // Writes the dense settled packing of the packing benchmarks (dem_packing.hpp,
 // N spheres) to DIR/packing.txt, so that another code can run the same
@@ -7,14 +7,15 @@
 // one worker and on two, and writes the state after those steps to
 // DIR/xfdem_after.txt. Prints whether the two runs end with the same bits.
 // With `friction`, the frictional law of dem_packing.hpp (refused by a kernel
-// without friction); with `one_worker`, no two-worker run (for instruction
+// without friction); with `hertz`, its Hertz–Mindlin law; with `one_worker`, no two-worker run (for instruction
 // counts: callgrind runs the workers' threads one at a time).
 // Timings are not taken here (Google Benchmark: BM_DemPacking/vs_liggghts).
 //
 // packing.txt: "# key value" lines (n, radius, density, mass, stiffness,
 // damping_ratio, dt, side, top, and the contact parameters the kernel derived:
 // pair_stiffness, pair_eta, plane_stiffness, plane_eta; with friction also
-// friction and tangential_ratio), then one line
+// friction and tangential_ratio; with hertz: law_hertz 1, youngs_modulus,
+// poisson_ratio, restitution, friction), then one line
 // "x y z" per sphere in the kernel's particle order. xfdem_after.txt: one line
 // "x y z vx vy vz" per sphere, same order. Numbers in %.17g (round trip).
 #include <cerrno>
@@ -54,11 +55,15 @@ std::FILE* open_or_die(const std::string& path) {
 }
 
 /// Steps the packing `steps` times from rest; returns the state.
-DemState<3> run(const Packing& pk, long steps, bool two_workers, bool friction, DemModel<3>& model,
+DemState<3> run(const Packing& pk, long steps, bool two_workers, bool friction, bool hertz, DemModel<3>& model,
                 DemDesc<3>& desc) {
   desc = packing_run_desc(pk, DemIntegrator::verlet, 0.0);
   if (friction && !set_packing_friction(desc)) {
     std::fprintf(stderr, "xfdem_packing_export: this kernel has no friction (DemDesc::friction)\n");
+    std::exit(2);
+  }
+  if (hertz && !set_packing_hertz(desc)) {
+    std::fprintf(stderr, "xfdem_packing_export: this kernel has no hertz law with friction\n");
     std::exit(2);
   }
   DemState<3> state;
@@ -74,20 +79,22 @@ DemState<3> run(const Packing& pk, long steps, bool two_workers, bool friction, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool friction = false, one_worker = false;
+  bool friction = false, hertz = false, one_worker = false;
   for (int k = 4; k < argc; ++k) {
     const std::string option = argv[k];
     if (option == "friction") {
       friction = true;
+    } else if (option == "hertz") {
+      hertz = true;
     } else if (option == "one_worker") {
       one_worker = true;
     } else {
-      std::fprintf(stderr, "xfdem_packing_export: unknown option '%s' (friction, one_worker)\n", argv[k]);
+      std::fprintf(stderr, "xfdem_packing_export: unknown option '%s' (friction, hertz, one_worker)\n", argv[k]);
       return 2;
     }
   }
   if (argc < 4) {
-    std::fprintf(stderr, "usage: xfdem_packing_export N STEPS DIR [friction] [one_worker]\n");
+    std::fprintf(stderr, "usage: xfdem_packing_export N STEPS DIR [friction | hertz] [one_worker]\n");
     return 2;
   }
   const auto n = static_cast<std::int32_t>(parse_count(argv[1], "N", 2));
@@ -97,10 +104,10 @@ int main(int argc, char** argv) {
 
   DemModel<3> model;
   DemDesc<3> desc;
-  const DemState<3> one = run(pk, steps, false, friction, model, desc);
+  const DemState<3> one = run(pk, steps, false, friction, hertz, model, desc);
   DemModel<3> model2;
   DemDesc<3> desc2;
-  const DemState<3> two = one_worker ? one : run(pk, steps, true, friction, model2, desc2);
+  const DemState<3> two = one_worker ? one : run(pk, steps, true, friction, hertz, model2, desc2);
 
   std::FILE* f = open_or_die(dir + "/packing.txt");
   // Equal spheres: springs in series K = k/2, m_eff = m/2, η = 2ζ√(K m_eff)
@@ -113,6 +120,9 @@ int main(int argc, char** argv) {
                desc.dt, kGravity, pk.side, pk.top);
   std::fprintf(f, "# pair_stiffness %.17g\n# pair_eta %.17g\n# plane_stiffness %.17g\n# plane_eta %.17g\n", pair_stiffness, pair_eta, model.stiffness[0], model.plane_eta[0]);
   if (friction) std::fprintf(f, "# friction %.17g\n# tangential_ratio %.17g\n", kPackingFriction, kPackingTangentialRatio);
+  if (hertz)
+    std::fprintf(f, "# law_hertz 1\n# youngs_modulus %.17g\n# poisson_ratio %.17g\n# restitution %.17g\n# friction %.17g\n",
+                 kPackingYoungsModulus, kPackingPoissonRatio, kPackingRestitution, kPackingFriction);
   for (const auto& p : pk.position) std::fprintf(f, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
   std::fclose(f);
 

@@ -3,7 +3,7 @@
 
     /usr/bin/python3 tools/bench_liggghts.py [--sizes 10000 60000] [--steps 1000]
                                              [--repetitions 3] [--build build/release]
-                                             [--instructions 10000] [--friction]
+                                             [--instructions 10000] [--friction] [--hertz]
 
 For each size N:
   1. xfdem_packing_export writes the packing of the packing benchmarks
@@ -40,8 +40,15 @@ Friction (--friction, when the kernel has DemDesc::friction): mu = 0.5,
 k_t = 2/7 k_n, against `model hooke/stiffness tangential history` (the same
 Cundall-Strack spring: k_t given per type pair, capped at mu |F_n| and reset
 to the cap when sliding, dashpot gamma_t = 2 zeta sqrt(k_t m_eff) while
-sticking). The kernel's Hertz-Mindlin law against `model hertz tangential
-history` waits for that law.
+sticking).
+
+Hertz-Mindlin (--hertz, when the kernel has the hertz law): E = 5e7 Pa,
+nu = 0.25 (spheres and walls), restitution 0.7, mu = 0.5, against `model
+hertz tangential history` with youngsModulus, poissonsRatio,
+coefficientRestitution and coefficientFriction set to the same values (the
+same normal law and damping; the tangential history differs by design: the
+kernel keeps it as a force, LIGGGHTS 3.8 as a displacement times the current
+S_t, docs/dem.md).
 
 Nothing is installed: if `liggghts` or `mpirun` is missing, the script says
 what to apt-get and stops.
@@ -92,7 +99,10 @@ def write_liggghts(directory, meta, x, steps):
     kp, kw = meta["pair_stiffness"], meta["plane_stiffness"]
     ep, ew = meta["pair_eta"], meta["plane_eta"]
     mu = meta.get("friction", 0.0)
-    if mu > 0:
+    hertz = meta.get("law_hertz", 0.0) > 0
+    if hertz:
+        model = "model hertz tangential history"
+    elif mu > 0:
         # Cundall-Strack spring k_t = ratio k_n, capped at mu |F_n| (reset to
         # the cap when sliding), dashpot 2 zeta sqrt(k_t m_eff) while sticking.
         ratio, zeta, m = meta["tangential_ratio"], meta["damping_ratio"], meta["mass"]
@@ -116,18 +126,34 @@ def write_liggghts(directory, meta, x, steps):
         "neighbor %r bin" % (0.5 * r),
         "neigh_modify delay 0",
         # type 1: the spheres; type 2: the walls
-        "fix m1 all property/global kn peratomtypepair 2 %r %r %r %r" % (kp, kw, kw, kw),
-        "fix m2 all property/global kt peratomtypepair 2 %r %r %r %r" % (ktp, ktw, ktw, ktw),
-        "fix m3 all property/global gamman_abs peratomtypepair 2 %r %r %r %r" % (ep, ew, ew, ew),
-        "fix m4 all property/global gammat_abs peratomtypepair 2 %r %r %r %r" % (etp, etw, etw, etw),
-        "fix m5 all property/global coefficientFriction peratomtypepair 2 %r %r %r %r" % (mu, mu, mu, mu),
-        "pair_style gran %s absolute_damping on" % model,
+    ]
+    if hertz:
+        E, nu, e = meta["youngs_modulus"], meta["poisson_ratio"], meta["restitution"]
+        lines += [
+            "fix m1 all property/global youngsModulus peratomtype %r %r" % (E, E),
+            "fix m2 all property/global poissonsRatio peratomtype %r %r" % (nu, nu),
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2 %r %r %r %r" % (e, e, e, e),
+            "fix m4 all property/global coefficientFriction peratomtypepair 2 %r %r %r %r" % (mu, mu, mu, mu),
+            "pair_style gran %s" % model,
+        ]
+        wall_options = ""
+    else:
+        lines += [
+            "fix m1 all property/global kn peratomtypepair 2 %r %r %r %r" % (kp, kw, kw, kw),
+            "fix m2 all property/global kt peratomtypepair 2 %r %r %r %r" % (ktp, ktw, ktw, ktw),
+            "fix m3 all property/global gamman_abs peratomtypepair 2 %r %r %r %r" % (ep, ew, ew, ew),
+            "fix m4 all property/global gammat_abs peratomtypepair 2 %r %r %r %r" % (etp, etw, etw, etw),
+            "fix m5 all property/global coefficientFriction peratomtypepair 2 %r %r %r %r" % (mu, mu, mu, mu),
+            "pair_style gran %s absolute_damping on" % model,
+        ]
+        wall_options = " absolute_damping on"
+    lines += [
         "pair_coeff * *",
         "timestep %r" % meta["dt"],
         "fix gravity all gravity %r vector 0.0 0.0 -1.0" % -meta["gravity"],
     ]
     for k, (kind, at) in enumerate(walls):
-        lines.append("fix wall%d all wall/gran %s primitive type 2 %s %r absolute_damping on" % (k, model, kind, at))
+        lines.append("fix wall%d all wall/gran %s primitive type 2 %s %r%s" % (k, model, kind, at, wall_options))
     lines += [
         "fix integrate all nve/sphere",
         "thermo_style custom step atoms ke",
@@ -192,7 +218,11 @@ def callgrind_refs(cmd, cwd):
     return int(found.group(1).replace(",", ""))
 
 
-def instructions(n, friction, export, directory, meta, x0):
+EXPORT_OPTION = {"frictionless": [], "friction": ["friction"], "hertz": ["hertz"]}
+BENCH_ROW = {"frictionless": "vs_liggghts", "friction": "vs_liggghts_friction", "hertz": "vs_liggghts_hertz"}
+
+
+def instructions(n, law, export, directory, meta, x0):
     """Instructions per particle-step on one core (LIGGGHTS 1 rank, xfdem 1
     worker), from the difference of a 60- and a 10-step run under callgrind,
     so that reading, setup and the packing's generation cancel: a count the
@@ -205,8 +235,7 @@ def instructions(n, friction, export, directory, meta, x0):
                              directory)
         ours_dir = os.path.join(directory, "ir_%d" % steps)
         os.makedirs(ours_dir, exist_ok=True)
-        ours = callgrind_refs([export, str(n), str(steps), ours_dir, "one_worker"] + (["friction"] if friction else []),
-                              directory)
+        ours = callgrind_refs([export, str(n), str(steps), ours_dir, "one_worker"] + EXPORT_OPTION[law], directory)
         counts[steps] = (lig, ours)
     per = 1.0 / ((hi - lo) * n)
     return {"lig": (counts[hi][0] - counts[lo][0]) * per, "ours": (counts[hi][1] - counts[lo][1]) * per}
@@ -232,14 +261,14 @@ def run_ours(bench, row, n, repetitions):
     return out, " ".join(cmd[:3])
 
 
-def measure(args, n, friction, export, bench, mpirun_extra):
+def measure(args, n, law, export, bench, mpirun_extra):
     """One packing size, one law: both codes' timings and states."""
-    work = args.keep and os.path.join(args.keep, "%d%s" % (n, "_friction" if friction else ""))
+    work = args.keep and os.path.join(args.keep, "%d_%s" % (n, law))
     if work:
         os.makedirs(work, exist_ok=True)
     tmp = None if work else tempfile.TemporaryDirectory(prefix="bench_liggghts_")
     directory = work or tmp.name
-    cmd = [export, str(n), str(args.steps), directory] + (["friction"] if friction else [])
+    cmd = [export, str(n), str(args.steps), directory] + EXPORT_OPTION[law]
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode not in (0, 1):
         fail("xfdem_packing_export failed:\n" + done.stderr, 1)
@@ -258,11 +287,12 @@ def measure(args, n, friction, export, bench, mpirun_extra):
         "moved": float(np.linalg.norm(xo - x0, axis=1).max()),
         "differ": float(np.linalg.norm(xo - xl, axis=1).max()),
     }
-    ours, bench_cmd = run_ours(bench, "vs_liggghts_friction" if friction else "vs_liggghts", n, args.repetitions)
-    ir = instructions(n, friction, export, directory, meta, x0) if n in args.instructions else None
+    ours, bench_cmd = run_ours(bench, BENCH_ROW[law], n, args.repetitions)
+    ir = instructions(n, law, export, directory, meta, x0) if n in args.instructions else None
     if tmp:
         tmp.cleanup()
-    label = "mu %g" % meta["friction"] if friction else "frictionless"
+    label = {"frictionless": "frictionless", "friction": "mu %g" % meta.get("friction", 0),
+             "hertz": "hertz, mu %g" % meta.get("friction", 0)}[law]
     return {"n": n, "law": label, "meta": meta, "lig": lig, "ours": ours, "physics": physics, "same_bits": same_bits,
             "bench_cmd": bench_cmd, "ir": ir}
 
@@ -279,6 +309,8 @@ def main():
                     help="also count instructions per particle-step under callgrind at these sizes (slow)")
     ap.add_argument("--friction", action="store_true",
                     help="also the frictional packing (when the kernel has friction)")
+    ap.add_argument("--hertz", action="store_true",
+                    help="also the Hertz-Mindlin packing with friction (when the kernel has the hertz law)")
     args = ap.parse_args()
 
     needed = [("liggghts", "liggghts"), ("mpirun", "openmpi-bin")]
@@ -298,18 +330,21 @@ def main():
     # 2 ranks start on a machine that reports fewer slots.
     mpirun_extra = ["--oversubscribe"] + (["--allow-run-as-root"] if os.geteuid() == 0 else [])
 
-    laws = [False]
-    notes = ["Hertz-Mindlin (`model hertz tangential history`): waiting, the kernel has no Hertz law yet."]
-    if args.friction:
-        listed = subprocess.run([bench, "--benchmark_list_tests", "--benchmark_filter=vs_liggghts_friction"],
+    laws = ["frictionless"]
+    notes = []
+    for law, wanted, missing in (("friction", args.friction, "Coulomb friction (DemDesc::friction)"),
+                                 ("hertz", args.hertz, "hertz law with friction")):
+        if not wanted:
+            continue
+        listed = subprocess.run([bench, "--benchmark_list_tests", "--benchmark_filter=" + BENCH_ROW[law]],
                                 capture_output=True, text=True).stdout
-        if "vs_liggghts_friction" in listed:
-            laws.append(True)
+        if BENCH_ROW[law] in listed:
+            laws.append(law)
         else:
-            notes.insert(0, "Friction: waiting, this kernel has no Coulomb friction (DemDesc::friction).")
+            notes.append("%s: waiting, this kernel has no %s." % (law, missing))
 
     load_before = os.getloadavg()
-    results = [measure(args, n, friction, export, bench, mpirun_extra) for friction in laws for n in args.sizes]
+    results = [measure(args, n, law, export, bench, mpirun_extra) for law in laws for n in args.sizes]
     load_after = os.getloadavg()
 
     print("Dense settled packing. LIGGGHTS: %d steps on %d MPI ranks, the median of %d runs; xfdem:"

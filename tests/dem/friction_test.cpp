@@ -354,6 +354,53 @@ TEST_P(ContactRecords, TwoWorkersSnapshotsAndNoAllocation) {
   EXPECT_GT(one.state.list_builds, 1);
 }
 
+// Spheres in a box, Coulomb friction without rolling resistance, split in two
+// parts (split_from): the 3D pair kernel that evaluates two contacts at once,
+// and part 0's contributions to part 1's particles and torques through the
+// cross buffers.
+DemDesc<3> box_of_spheres(ContactLaw law, DemIntegrator integrator) {
+  DemDesc<3> d;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  d.dt = 2e-5;
+  d.gravity = {0, 0, -9.81};
+  d.damping_ratio = 0.2;
+  d.friction = 0.5;
+  d.law = law;
+  d.integrator = integrator;
+  d.all_pairs_up_to = 0;
+  d.split_from = 100;
+  const int side = 7;
+  for (int i = 0; i < side * side * 5; ++i) {
+    ParticleDesc<3> p;
+    p.mass = 0.01 * (1 + 0.2 * u(rng));
+    p.radius = 0.01 * (1 + 0.2 * u(rng));
+    p.stiffness = 1e4;
+    p.position = {0.022 * (i % side) + 0.015, 0.022 * ((i / side) % side) + 0.015, 0.022 * (i / (side * side)) + 0.015};
+    p.velocity = {0.2 * (u(rng) - 0.5), 0.2 * (u(rng) - 0.5), 0.2 * (u(rng) - 0.5)};
+    p.angular_velocity = {2 * (u(rng) - 0.5), 2 * (u(rng) - 0.5), 2 * (u(rng) - 0.5)};
+    d.particles.push_back(p);
+  }
+  const double wall = 0.022 * side + 0.01;
+  d.planes = {{.point = {0, 0, 0}, .normal = {0, 0, 1}},    {.point = {0, 0, 0}, .normal = {1, 0, 0}},
+              {.point = {wall, 0, 0}, .normal = {-1, 0, 0}}, {.point = {0, 0, 0}, .normal = {0, 1, 0}},
+              {.point = {0, wall, 0}, .normal = {0, -1, 0}}};
+  return d;
+}
+
+TEST(ContactRecords, SpheresOnTwoPartsTwoWorkersSnapshotsAndNoAllocation) {
+  for (ContactLaw law : {ContactLaw::linear, ContactLaw::linear_nontensile})
+    for (DemIntegrator integrator : {DemIntegrator::verlet, DemIntegrator::rk4}) {
+      SCOPED_TRACE(integrator_name(integrator));
+      DemWorld<3> one;
+      expect_same_bits_on_two_workers_and_after_a_snapshot(box_of_spheres(law, integrator), one, 3000);
+      EXPECT_EQ(one.model.parts, 2);
+      int loaded = 0;
+      for (std::int32_t c = 0; c < one.state.pair_count; ++c) loaded += one.state.pair_xi[0][c] != 0.0 ? 1 : 0;
+      EXPECT_GT(loaded, 50);  // sticking contacts carry a spring
+    }
+}
+
 // A snapshot names its model by a fingerprint that covers the tangential law:
 // restored into a model that differs only in μ, μ_r, k_t/k_n or an inertia, it
 // is refused (the springs it carries were built under the other law).

@@ -52,7 +52,7 @@ std::uint64_t workspace_bytes(const DemWorkspace<D>& w) {
          bytes(w.plane_force0) + bytes(w.plane_weighted) + bytes(w.plane_step_impulse) + bytes(w.network_row) +
          bytes(w.w1) + bytes(w.alpha1) + bytes(w.angle1) + bytes(w.old_pair_i) + bytes(w.old_pair_j) +
          bytes(w.old_pair_xi) + bytes(w.ws) + bytes(w.alphas) + bytes(w.sum_w) + bytes(w.angle_s) +
-         bytes(w.sum_angle);
+         bytes(w.sum_angle) + bytes(w.cross_spin);
 }
 
 /// n particles on a lattice 3 radii apart (no two touch) above a floor, in D dimensions.

@@ -395,6 +395,8 @@ struct DemWorkspace {
   ParallelFor parallel;
   /// Part 0's pair contributions to part 1's particles, added after both parts.
   std::array<std::vector<double>, D> cross;
+  /// The same for torques / I (rotating models; empty otherwise).
+  std::array<std::vector<double>, spin_components(D)> cross_spin;
   std::vector<double> plane_force_part;  ///< per part, per plane (parts × planes)
   /// Frozen contact set for abm4_events: start-of-interval state the kernels read.
   ConstColumns<D> mode_x{}, mode_v{};

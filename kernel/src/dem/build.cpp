@@ -340,6 +340,7 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
       size_columns(s.hist_alpha[k], un);
     }
     size_columns(w.w1, un);
+    size_columns(w.cross_spin, static_cast<std::size_t>(m.n - m.split));
     size_columns(w.alpha1, un);
     for (std::size_t i = 0; i < un; ++i)
       for (int k = 0; k < S; ++k) s.w[k][i] = desc.particles[i].angular_velocity[k];

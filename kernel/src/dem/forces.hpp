@@ -271,6 +271,29 @@ StepStatus pair_forces(const DemModel<D>& m, const DemState<D>& s, ConstColumns<
   return status;
 }
 
+/// Σ 0·c_k[i] over the columns c_k and i in [begin, end): 0 when every value
+/// is finite, NaN otherwise (0·x is NaN exactly when x is NaN or infinite), so
+/// it decides without a branch per value and whatever the order of the sum.
+/// Even and odd i are summed apart, which lets the compiler use packed SSE2.
+template <std::size_t K>
+[[gnu::always_inline]] inline double zero_probe(const std::array<const double*, K>& c, std::int32_t begin,
+                                                std::int32_t end) {
+  double even = 0, odd = 0;
+  std::int32_t i = begin;
+  for (; i + 1 < end; i += 2) {
+    double te = 0.0 * c[0][i], to = 0.0 * c[0][i + 1];
+    for (std::size_t k = 1; k < K; ++k) {
+      te += 0.0 * c[k][i];
+      to += 0.0 * c[k][i + 1];
+    }
+    even += te;
+    odd += to;
+  }
+  if (i < end)
+    for (std::size_t k = 0; k < K; ++k) even += 0.0 * c[k][i];
+  return even + odd;
+}
+
 /// a = g + F_ext / m on particles [begin, end): where every evaluation starts.
 template <int D, bool Gravity>
 inline void input_accelerations(const DemModel<D>& m, const DemState<D>& s, Columns<D> a, std::int32_t begin,

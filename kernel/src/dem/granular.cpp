@@ -17,9 +17,15 @@
 //   5. commit and books: the trial state becomes the state (a refused step
 //      leaves it untouched), time, the network bound, the finiteness check,
 //      the planes' impulses and the energy books.
-// One part, in a fixed order: the bits do not depend on the host's workers.
+// A model of two parts (DemModel::parts) runs stages 1-4 on them as the
+// frictionless step does (granular_forces); every sum has the model's order,
+// so the bits do not depend on the host's workers.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "dem/contact_law.hpp"
 #include "dem/contact_parameters.hpp"
@@ -32,8 +38,8 @@ namespace xfdem::dem_detail {
 namespace {
 
 /// ω × n for the contact geometry: 2D ω (about z) × n = ω (−n_y, n_x).
-template <int D>
-inline void spin_cross(const double* w, const double (&n)[D], double (&out)[D]) {
+template <int D, class T>
+inline void spin_cross(const T* w, const T (&n)[D], T (&out)[D]) {
   if constexpr (D == 2) {
     out[0] = -w[0] * n[1];
     out[1] = w[0] * n[0];
@@ -45,8 +51,8 @@ inline void spin_cross(const double* w, const double (&n)[D], double (&out)[D]) 
 }
 
 /// n × F (the torque of F applied at the arm n), S components.
-template <int D>
-inline void moment(const double (&n)[D], const double (&f)[D], double (&out)[spin_components(D)]) {
+template <int D, class T>
+inline void moment(const T (&n)[D], const T (&f)[D], T (&out)[spin_components(D)]) {
   if constexpr (D == 2) {
     out[0] = n[0] * f[1] - n[1] * f[0];
   } else {
@@ -58,15 +64,62 @@ inline void moment(const double (&n)[D], const double (&f)[D], double (&out)[spi
 
 }  // namespace
 
+namespace {
+
+/// The law's run-time choices as template arguments, so that the contact
+/// kernels below test none of them per contact.
+template <ContactLaw L, bool Friction, bool Rolling>
+struct LawKind {
+  static constexpr ContactLaw law = L;
+  static constexpr bool friction = Friction, rolling = Rolling;
+};
+
+/// Calls f(LawKind<...>{}) for the model's law, friction and rolling resistance.
+template <int D, class F>
+decltype(auto) with_law(const DemModel<D>& m, F&& f) {
+  const bool friction = m.friction > 0, rolling = m.rolling_friction > 0;
+  auto pick = [&]<ContactLaw L>() -> decltype(auto) {
+    if (friction) return rolling ? f(LawKind<L, true, true>{}) : f(LawKind<L, true, false>{});
+    return rolling ? f(LawKind<L, false, true>{}) : f(LawKind<L, false, false>{});
+  };
+  switch (m.law) {
+    case ContactLaw::hertz: return pick.template operator()<ContactLaw::hertz>();
+    case ContactLaw::linear_nontensile: return pick.template operator()<ContactLaw::linear_nontensile>();
+    default: return pick.template operator()<ContactLaw::linear>();
+  }
+}
+
+/// What the contact law reads of the model, copied out of it once per
+/// evaluation: the kernels' stores into acceleration columns (doubles) could
+/// otherwise alias the model's double parameters, which the compiler would
+/// then reload at every contact.
 template <int D>
-ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t j, double K, double eta,
-                              const double (&dx)[D], double dist2, const double (&vi)[D], const double (&vj)[D],
-                              const double* wi, const double* wj, double h, double (&xi)[D]) {
+struct LawView {
+  const double *radius, *mass, *inv_mass, *inv_inertia, *stiffness, *plane_eta;
+  const double *hertz_inv_e, *hertz_inv_g, *plane_inv_e, *plane_inv_g;
+  const std::array<double, D>* plane_normal;
+  double friction, tangential_ratio, damping_ratio, hertz_damping, rolling_friction;
+  explicit LawView(const DemModel<D>& m)
+      : radius(m.radius.data()), mass(m.mass.data()), inv_mass(m.inv_mass.data()),
+        inv_inertia(m.inv_inertia.data()), stiffness(m.stiffness.data()), plane_eta(m.plane_eta.data()),
+        hertz_inv_e(m.hertz_inv_e.data()), hertz_inv_g(m.hertz_inv_g.data()), plane_inv_e(m.plane_inv_e.data()),
+        plane_inv_g(m.plane_inv_g.data()), plane_normal(m.plane_normal.data()), friction(m.friction),
+        tangential_ratio(m.tangential_ratio), damping_ratio(m.damping_ratio), hertz_damping(m.hertz_damping),
+        rolling_friction(m.rolling_friction) {}
+};
+
+template <int D, class Kind>
+[[gnu::always_inline]] inline ContactResult<D> pair_contact_as(const LawView<D>& m, std::int32_t i, std::int32_t j,
+                                                               double K, double eta, const double (&dx)[D],
+                                                               double dist2, const double (&vi)[D],
+                                                               const double (&vj)[D], const double* wi,
+                                                               const double* wj, double h, double (&xi)[D]) {
   constexpr int S = spin_components(D);
+  constexpr bool hertz = Kind::law == ContactLaw::hertz;
   ContactResult<D> r{};
   const double reach = m.radius[i] + m.radius[j];
   const double dist = std::sqrt(dist2);
-  if (dist > 0) {
+  if (dist > 0) [[likely]] {
     for (int d = 0; d < D; ++d) r.normal[d] = dx[d] / dist;
   } else {
     for (int d = 0; d < D; ++d) r.normal[d] = d == 0 ? 1.0 : 0.0;
@@ -74,13 +127,15 @@ ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t
   }
   double rate = 0;
   for (int d = 0; d < D; ++d) rate -= (vj[d] - vi[d]) * r.normal[d];
-  const bool hertz = m.law == ContactLaw::hertz;
   const double m_eff = 1.0 / (m.inv_mass[i] + m.inv_mass[j]);
   // hertz: the list caches E* and G* in K and eta (contact_parameters.hpp).
-  const HertzContact hc =
-      hertz ? hertz_contact(K, eta, m.radius[i] * m.radius[j] / reach, m_eff, m.hertz_damping, reach - dist, rate)
-            : HertzContact{};
-  r.fn = hertz ? hc.fn : normal_force(m.law == ContactLaw::linear_nontensile, K, eta, reach - dist, rate);
+  HertzContact hc{};
+  if constexpr (hertz) {
+    hc = hertz_contact(K, eta, m.radius[i] * m.radius[j] / reach, m_eff, m.hertz_damping, reach - dist, rate);
+    r.fn = hc.fn;
+  } else {
+    r.fn = normal_force(Kind::law == ContactLaw::linear_nontensile, K, eta, reach - dist, rate);
+  }
   // The contact point's sliding velocity, j relative to i: (v_j − v_i) − (r_i ω_i + r_j ω_j) × n.
   double spin[S], turn[D], vt[D], vn = 0;
   for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k] + m.radius[j] * wj[k];
@@ -90,8 +145,8 @@ ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t
     vn += vt[d] * r.normal[d];
   }
   for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
-  if (m.friction > 0) {
-    if (hertz) {  // the history is a force: k_t = 1, each step adds S_t Δξ
+  if constexpr (Kind::friction) {
+    if constexpr (hertz) {  // the history is a force: k_t = 1, each step adds S_t Δξ
       tangential_force<D>(TangentialLaw{1.0, hc.eta_t, m.friction}, r.normal, vt, r.fn, hc.st * h, xi, r.ft);
     } else {
       const double kt = m.tangential_ratio * K;
@@ -106,7 +161,7 @@ ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t
     r.torque_i[k] = -m.radius[i] * nf[k];
     r.torque_j[k] = -m.radius[j] * nf[k];
   }
-  if (m.rolling_friction > 0) {
+  if constexpr (Kind::rolling) {
     double rolling[S], along = 0;
     for (int k = 0; k < S; ++k) rolling[k] = wj[k] - wi[k];
     if constexpr (D == 3) {  // rolling, not twisting: the part of ω_rel in the contact plane
@@ -124,23 +179,26 @@ ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t
   return r;
 }
 
-template <int D>
-ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t p, double overlap, double speed,
-                               const double (&vi)[D], const double* wi, double h, double (&xi)[D]) {
+template <int D, class Kind>
+[[gnu::always_inline]] inline ContactResult<D> plane_contact_as(const LawView<D>& m, std::int32_t i, std::size_t p,
+                                                                double overlap, double speed, const double (&vi)[D],
+                                                                const double* wi, double h, double (&xi)[D]) {
   constexpr int S = spin_components(D);
+  constexpr bool hertz = Kind::law == ContactLaw::hertz;
   ContactResult<D> r{};
   // The plane is the first body: n is its normal (towards the particle), and
   // it moves at `speed` along it without turning.
   for (int d = 0; d < D; ++d) r.normal[d] = m.plane_normal[p][d];
   double rate = speed;
   for (int d = 0; d < D; ++d) rate -= vi[d] * r.normal[d];
-  const bool hertz = m.law == ContactLaw::hertz;
-  const HertzContact hc = hertz ? hertz_contact(1.0 / (m.hertz_inv_e[i] + m.plane_inv_e[p]),
-                                                1.0 / (m.hertz_inv_g[i] + m.plane_inv_g[p]), m.radius[i], m.mass[i],
-                                                m.hertz_damping, overlap, rate)
-                                : HertzContact{};
-  r.fn = hertz ? hc.fn
-               : normal_force(m.law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
+  HertzContact hc{};
+  if constexpr (hertz) {
+    hc = hertz_contact(1.0 / (m.hertz_inv_e[i] + m.plane_inv_e[p]), 1.0 / (m.hertz_inv_g[i] + m.plane_inv_g[p]),
+                       m.radius[i], m.mass[i], m.hertz_damping, overlap, rate);
+    r.fn = hc.fn;
+  } else {
+    r.fn = normal_force(Kind::law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
+  }
   double spin[S], turn[D], vt[D], vn = 0;
   for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k];
   spin_cross<D>(spin, r.normal, turn);
@@ -149,8 +207,8 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
     vn += vt[d] * r.normal[d];
   }
   for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
-  if (m.friction > 0) {
-    if (hertz) {
+  if constexpr (Kind::friction) {
+    if constexpr (hertz) {
       tangential_force<D>(TangentialLaw{1.0, hc.eta_t, m.friction}, r.normal, vt, r.fn, hc.st * h, xi, r.ft);
     } else {
       const double kt = m.tangential_ratio * m.stiffness[i];
@@ -161,7 +219,7 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
   double nf[S];
   moment<D>(r.normal, r.ft, nf);
   for (int k = 0; k < S; ++k) r.torque_j[k] = -m.radius[i] * nf[k];
-  if (m.rolling_friction > 0) {
+  if constexpr (Kind::rolling) {
     double rolling[S], along = 0;
     for (int k = 0; k < S; ++k) rolling[k] = wi[k];
     if constexpr (D == 3) {
@@ -175,83 +233,387 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
   return r;
 }
 
+}  // namespace
+
+template <int D>
+ContactResult<D> pair_contact(const DemModel<D>& m, std::int32_t i, std::int32_t j, double K, double eta,
+                              const double (&dx)[D], double dist2, const double (&vi)[D], const double (&vj)[D],
+                              const double* wi, const double* wj, double h, double (&xi)[D]) {
+  return with_law<D>(m, [&]<class Kind>(Kind) {
+    return pair_contact_as<D, Kind>(LawView<D>(m), i, j, K, eta, dx, dist2, vi, vj, wi, wj, h, xi);
+  });
+}
+
+template <int D>
+ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t p, double overlap, double speed,
+                               const double (&vi)[D], const double* wi, double h, double (&xi)[D]) {
+  return with_law<D>(m, [&]<class Kind>(Kind) { return plane_contact_as<D, Kind>(LawView<D>(m), i, p, overlap, speed, vi, wi, h, xi); });
+}
+
+namespace {
+
+/// Where an evaluation reads the state and writes its accelerations.
+template <int D>
+struct Views {
+  ConstColumns<D> x, v;
+  std::array<const double*, spin_components(D)> spin;
+  Columns<D> a;
+  std::array<double*, spin_components(D)> alpha;
+};
+
+/// Particle–plane contacts of particles [begin, end), plane by plane (each
+/// particle receives its plane contributions in plane order); each plane's
+/// total normal force into totals[p]. Returns the sum of the tags of the
+/// contacts that carried a force.
+template <int D, class Kind>
+std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<D>& at, double t, double h, bool keep,
+                              std::int32_t begin, std::int32_t end, double* totals) {
+  constexpr int S = spin_components(D);
+  const std::int32_t n = m.n;
+  const LawView<D> law(m);
+  const double* radius = law.radius;
+  const double* inv_mass = law.inv_mass;
+  const double* inv_inertia = law.inv_inertia;
+  std::uint64_t active = 0;
+  for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
+    const std::array<double, D> point = plane_point_at(m, s, p, t);
+    const std::array<double, D> normal = m.plane_normal[p];
+    const double speed = s.plane_speed[p];
+    double* xi_of[D];
+    for (int d = 0; d < D; ++d) xi_of[d] = s.plane_xi[d].data() + p * static_cast<std::size_t>(n);
+    double total = 0;
+    // Apart: the contact forgets its spring (a store only where one was kept).
+    auto forget = [&](std::int32_t i) {
+      if constexpr (Kind::friction) {
+        if (!keep) return;
+        std::uint64_t stored = 0;  // any bit, so that a kept −0 is zeroed as well
+        for (int d = 0; d < D; ++d) stored |= std::bit_cast<std::uint64_t>(xi_of[d][i]);
+        if (stored != 0) [[unlikely]]
+          for (int d = 0; d < D; ++d) xi_of[d][i] = 0.0;
+      }
+    };
+    auto contact = [&](std::int32_t i) {
+      double gap = 0;
+      for (int d = 0; d < D; ++d) gap += (at.x[d][i] - point[d]) * normal[d];
+      const double overlap = radius[i] - gap;
+      if (!(overlap > 0)) return forget(i);
+      double vi[D], wi[S], xi[D];
+      for (int d = 0; d < D; ++d) vi[d] = at.v[d][i];
+      for (int k = 0; k < S; ++k) wi[k] = at.spin[k][i];
+      for (int d = 0; d < D; ++d) xi[d] = Kind::friction ? xi_of[d][i] : 0.0;
+      const ContactResult<D> c = plane_contact_as<D, Kind>(law, i, p, overlap, speed, vi, wi, h, xi);
+      for (int d = 0; d < D; ++d) {
+        if (Kind::friction && keep) xi_of[d][i] = xi[d];
+        at.a[d][i] += (c.fn * c.normal[d] + c.ft[d]) * inv_mass[i];
+      }
+      for (int k = 0; k < S; ++k) at.alpha[k][i] += c.torque_j[k] * inv_inertia[i];
+      active += c.fn != 0.0 ? plane_contact_tag(n, p, i) : 0;
+      total += c.fn;
+    };
+    int nonzero = 0, axis = 0;
+    for (int d = 0; d < D; ++d)
+      if (normal[d] != 0.0) ++nonzero, axis = d;
+    if (nonzero == 1) {
+      // Axis-aligned (the usual box): for finite positions the other terms of
+      // the gap are ±0, so one coordinate decides apart; `contact` re-tests in full.
+      const double* xa = at.x[axis];
+      const double pa = point[axis], na = normal[axis];
+      for (std::int32_t i = begin; i < end; ++i) {
+        if (radius[i] - (xa[i] - pa) * na > 0) [[unlikely]]
+          contact(i);
+        else
+          forget(i);
+      }
+    } else {
+      for (std::int32_t i = begin; i < end; ++i) contact(i);
+    }
+    totals[p] = total;
+  }
+  return active;
+}
+
+#if defined(__SSE2__)
+/// Two contacts at once in the two SSE2 lanes (x86-64 baseline). Every lane
+/// does exactly the scalar operations of pair_contact_as and
+/// tangential_force, in the same order, and takes the scalar code's branches
+/// as selects between the results it would have computed, so the bits are
+/// the scalar ones; the divider and the square roots, which dominate, issue
+/// once for both contacts.
+using V2 = double __attribute__((vector_size(16)));
+using M2 = long long __attribute__((vector_size(16)));
+
+inline V2 select(M2 mask, V2 a, V2 b) {
+  return reinterpret_cast<V2>((mask & reinterpret_cast<M2>(a)) | (~mask & reinterpret_cast<M2>(b)));
+}
+inline V2 splat(double x) { return V2{x, x}; }
+inline V2 lanes(double a, double b) { return V2{a, b}; }
+inline V2 root(V2 x) { return _mm_sqrt_pd(x); }
+inline V2 magnitude(V2 x) {  // std::fabs: the sign bit cleared
+  return reinterpret_cast<V2>(reinterpret_cast<M2>(x) & M2{0x7fffffffffffffffLL, 0x7fffffffffffffffLL});
+}
+
+/// The linear laws with Coulomb friction, no rolling resistance, for two
+/// touching pairs whose centres do not coincide (dist > 0 in both lanes).
+/// Inputs and outputs per lane as pair_contact_as; xi advanced in place.
+template <int D, bool NonTensile>
+[[gnu::always_inline]] inline void frictional_pair_x2(const LawView<D>& m, const std::int32_t (&i)[2],
+                                                      const std::int32_t (&j)[2], V2 K, V2 eta, const V2 (&dx)[D],
+                                                      V2 dist, const V2 (&vi)[D], const V2 (&vj)[D],
+                                                      const V2 (&wi)[spin_components(D)],
+                                                      const V2 (&wj)[spin_components(D)], double h, V2 (&xi)[D],
+                                                      V2 (&normal)[D], V2& fn, V2 (&ft)[D],
+                                                      V2 (&torque_i)[spin_components(D)],
+                                                      V2 (&torque_j)[spin_components(D)]) {
+  constexpr int S = spin_components(D);
+  const V2 zero = splat(0.0);
+  const V2 ri = lanes(m.radius[i[0]], m.radius[i[1]]), rj = lanes(m.radius[j[0]], m.radius[j[1]]);
+  const V2 reach = ri + rj;
+  for (int d = 0; d < D; ++d) normal[d] = dx[d] / dist;
+  V2 rate = zero;
+  for (int d = 0; d < D; ++d) rate -= (vj[d] - vi[d]) * normal[d];
+  const V2 m_eff = splat(1.0) / (lanes(m.inv_mass[i[0]], m.inv_mass[i[1]]) + lanes(m.inv_mass[j[0]], m.inv_mass[j[1]]));
+  // normal_force: 0 unless δ > 0; K δ + η δ'; the non-tensile law never pulls.
+  const V2 overlap = reach - dist;
+  V2 force = K * overlap;
+  force += eta * rate;
+  if constexpr (NonTensile) force = select(force < zero, zero, force);  // std::max(force, 0.0)
+  fn = select(overlap > zero, force, zero);
+  V2 spin[S], turn[D], vt[D], vn = zero;
+  for (int k = 0; k < S; ++k) spin[k] = ri * wi[k] + rj * wj[k];
+  spin_cross<D>(spin, normal, turn);
+  for (int d = 0; d < D; ++d) {
+    vt[d] = vj[d] - vi[d] - turn[d];
+    vn += vt[d] * normal[d];
+  }
+  for (int d = 0; d < D; ++d) vt[d] -= vn * normal[d];
+  const V2 kt = splat(m.tangential_ratio) * K;
+  const V2 eta_t = splat(2.0 * m.damping_ratio) * root(kt * m_eff);
+  // tangential_force: the spring turned into the contact plane (its length kept).
+  V2 along = zero, before = zero;
+  for (int d = 0; d < D; ++d) {
+    along += xi[d] * normal[d];
+    before += xi[d] * xi[d];
+  }
+  {
+    V2 turned[D], after = zero;
+    for (int d = 0; d < D; ++d) {
+      turned[d] = xi[d] - along * normal[d];
+      after += turned[d] * turned[d];
+    }
+    const V2 keep = select(after > zero, root(before / after), zero);
+    const M2 off_plane = along != zero;
+    for (int d = 0; d < D; ++d) xi[d] = select(off_plane, turned[d] * keep, xi[d]);
+  }
+  V2 f2 = zero;
+  const V2 step = splat(h);
+  for (int d = 0; d < D; ++d) {
+    xi[d] += step * vt[d];
+    ft[d] = -kt * xi[d] - eta_t * vt[d];
+    f2 += ft[d] * ft[d];
+  }
+  const V2 cap = splat(m.friction) * magnitude(fn);
+  const M2 sliding = f2 > cap * cap;
+  if (_mm_movemask_pd(reinterpret_cast<__m128d>(sliding)) != 0) {
+    const V2 scale = cap / root(f2);
+    for (int d = 0; d < D; ++d) {
+      const V2 capped = ft[d] * scale;
+      xi[d] = select(sliding, -(capped + eta_t * vt[d]) / kt, xi[d]);
+      ft[d] = select(sliding, capped, ft[d]);
+    }
+  }
+  V2 nf[S];
+  moment<D>(normal, ft, nf);
+  for (int k = 0; k < S; ++k) {
+    torque_i[k] = -ri * nf[k];
+    torque_j[k] = -rj * nf[k];
+  }
+}
+#endif
+
+/// Pairs [begin, end) of the list, in list order. As the frictionless
+/// kernel (forces.hpp, pair_forces): listed pairs are screened in chunks
+/// without branches, then only the touching ones are evaluated; a
+/// contribution to a particle j >= split goes to the cross buffers (part 0 of
+/// a split step).
+template <int D, class Kind>
+StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const Views<D>& at, double h, bool keep,
+                          std::int32_t begin, std::int32_t end, std::int32_t split, Columns<D> cross,
+                          const std::array<double*, spin_components(D)>& cross_spin, std::uint64_t& active) {
+  constexpr int S = spin_components(D);
+  constexpr std::int32_t kChunk = 256;
+  std::int32_t touching[kChunk];
+  double kept_dx[D][kChunk], kept_dist2[kChunk];
+  const LawView<D> law(m);
+  const double* radius = law.radius;
+  const double* inv_mass = law.inv_mass;
+  const double* inv_inertia = law.inv_inertia;
+  const std::int32_t* pi = s.pair_i.data();
+  const std::int32_t* pj = s.pair_j.data();
+  const double* pair_k = s.pair_stiffness.data();
+  const double* pair_eta = s.pair_eta.data();
+  const std::int32_t n = m.n;
+  double* xi_of[D];
+  for (int d = 0; d < D; ++d) xi_of[d] = s.pair_xi[d].data();
+  StepStatus status = StepStatus::ok;
+  for (std::int32_t c0 = begin; c0 < end; c0 += kChunk) {
+    const std::int32_t c1 = std::min(end, c0 + kChunk);
+    std::int32_t hits = 0;
+    for (std::int32_t c = c0; c < c1; ++c) {
+      const std::int32_t i = pi[c], j = pj[c];
+      double dist2 = 0;
+      for (int d = 0; d < D; ++d) {
+        const double dx = at.x[d][j] - at.x[d][i];
+        dist2 += dx * dx;
+        kept_dx[d][hits] = dx;
+      }
+      const double reach = radius[i] + radius[j];
+      const bool on = dist2 < reach * reach;  // false for NaN
+      if constexpr (Kind::friction)
+        if (keep)  // apart: the contact forgets its spring
+          for (int d = 0; d < D; ++d) xi_of[d][c] = on ? xi_of[d][c] : 0.0;
+      touching[hits] = c;
+      kept_dist2[hits] = dist2;
+      hits += on ? 1 : 0;
+    }
+    std::int32_t k = 0;
+#if defined(__SSE2__)
+    if constexpr (Kind::friction && !Kind::rolling && Kind::law != ContactLaw::hertz) {
+      for (; k + 1 < hits; k += 2) {
+        const std::int32_t ca = touching[k], cb = touching[k + 1];
+        const std::int32_t ii[2] = {pi[ca], pi[cb]}, jj[2] = {pj[ca], pj[cb]};
+        const V2 dist = root(V2{kept_dist2[k], kept_dist2[k + 1]});
+        if (_mm_movemask_pd(reinterpret_cast<__m128d>(dist > splat(0.0))) != 3) break;  // coincident: scalar
+        V2 dx[D], vi[D], vj[D], wi[S], wj[S], xi[D], normal[D], fn, ft[D], ti[S], tj[S];
+        for (int d = 0; d < D; ++d) {
+          dx[d] = V2{kept_dx[d][k], kept_dx[d][k + 1]};
+          vi[d] = V2{at.v[d][ii[0]], at.v[d][ii[1]]};
+          vj[d] = V2{at.v[d][jj[0]], at.v[d][jj[1]]};
+          xi[d] = V2{xi_of[d][ca], xi_of[d][cb]};
+        }
+        for (int q = 0; q < S; ++q) {
+          wi[q] = V2{at.spin[q][ii[0]], at.spin[q][ii[1]]};
+          wj[q] = V2{at.spin[q][jj[0]], at.spin[q][jj[1]]};
+        }
+        frictional_pair_x2<D, Kind::law == ContactLaw::linear_nontensile>(
+            law, ii, jj, V2{pair_k[ca], pair_k[cb]}, V2{pair_eta[ca], pair_eta[cb]}, dx, dist, vi, vj, wi, wj, h, xi,
+            normal, fn, ft, ti, tj);
+        // The contributions in list order: all of the first pair's, then the second's.
+        for (int lane = 0; lane < 2; ++lane) {
+          const std::int32_t c = lane == 0 ? ca : cb, i = ii[lane], j = jj[lane];
+          const bool far = j >= split;
+          const std::int32_t jt = far ? j - split : j;  // j's slot in its target column
+          const double mi = inv_mass[i], mj = inv_mass[j], ii_ = inv_inertia[i], ij_ = inv_inertia[j];
+          for (int d = 0; d < D; ++d) {
+            if (keep) xi_of[d][c] = xi[d][lane];
+            const double f = fn[lane] * normal[d][lane] + ft[d][lane];  // on j
+            at.a[d][i] -= f * mi;
+            (far ? cross[d] : at.a[d])[jt] += f * mj;
+          }
+          for (int q = 0; q < S; ++q) {
+            at.alpha[q][i] += ti[q][lane] * ii_;
+            (far ? cross_spin[q] : at.alpha[q])[jt] += tj[q][lane] * ij_;
+          }
+          active += fn[lane] != 0.0 ? pair_contact_tag(n, i, j) : 0;
+        }
+      }
+    }
+#endif
+    for (; k < hits; ++k) {
+      const std::int32_t c = touching[k];
+      const std::int32_t i = pi[c], j = pj[c];
+      double dx[D], vi[D], vj[D], wi[S], wj[S], xi[D];
+      for (int d = 0; d < D; ++d) {
+        dx[d] = kept_dx[d][k];
+        vi[d] = at.v[d][i];
+        vj[d] = at.v[d][j];
+        xi[d] = Kind::friction ? xi_of[d][c] : 0.0;
+      }
+      for (int q = 0; q < S; ++q) {
+        wi[q] = at.spin[q][i];
+        wj[q] = at.spin[q][j];
+      }
+      const ContactResult<D> r = pair_contact_as<D, Kind>(law, i, j, pair_k[c], pair_eta[c], dx,
+                                                          kept_dist2[k], vi, vj, wi, wj, h, xi);
+      if (r.coincident) [[unlikely]]
+        status |= StepStatus::coincident_centres;
+      const bool far = j >= split;
+      for (int d = 0; d < D; ++d) {
+        if (Kind::friction && keep) xi_of[d][c] = xi[d];
+        const double f = r.fn * r.normal[d] + r.ft[d];  // on j
+        at.a[d][i] -= f * inv_mass[i];
+        (far ? cross[d][j - split] : at.a[d][j]) += f * inv_mass[j];
+      }
+      for (int q = 0; q < S; ++q) {
+        at.alpha[q][i] += r.torque_i[q] * inv_inertia[i];
+        (far ? cross_spin[q][j - split] : at.alpha[q][j]) += r.torque_j[q] * inv_inertia[j];
+      }
+      active += r.fn != 0.0 ? pair_contact_tag(n, i, j) : 0;
+    }
+  }
+  return status;
+}
+
 /// Stage 3: a = g + F/m and α = M/I at the state (x, v, ω); the tangential
 /// springs advanced by h from the stored ones (0: nothing accumulates, the
 /// state's own forces). `keep`: the advanced springs become the stored ones
 /// (false: an intermediate stage of a multistage step, which reads them only).
-template <int D>
-StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x,
-                           ConstColumns<D> v, const std::array<const double*, spin_components(D)>& spin, Columns<D> a,
-                           const std::array<double*, spin_components(D)>& alpha, double t, double h, bool keep = true) {
+/// A model split in two parts (DemModel::parts) runs as the frictionless
+/// kernel does: each part its particles' inputs and plane contacts, then part
+/// 0 the pairs with i < split (contributions to particles of part 1 into the
+/// cross buffers) and part 1 the others, then the cross buffers added in
+/// particle order. The order of every sum is fixed by the model, so one and
+/// two workers give the same bits.
+template <int D, class Kind>
+StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, const Views<D>& at, double t,
+                           double h, bool keep) {
   constexpr int S = spin_components(D);
   const std::int32_t n = m.n;
-  input_accelerations<D, true>(m, s, a, 0, n);
-  for (int k = 0; k < S; ++k) std::fill(alpha[k], alpha[k] + n, 0.0);
-  auto particle = [&](std::int32_t i, double (&vi)[D], double (&wi)[S]) {
-    for (int d = 0; d < D; ++d) vi[d] = v[d][i];
-    for (int k = 0; k < S; ++k) wi[k] = spin[k][i];
-  };
-  std::uint64_t active = 0;
-  for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
-    const std::array<double, D> point = plane_point_at(m, s, p, t);
-    double total = 0;
-    for (std::int32_t i = 0; i < n; ++i) {
-      const std::size_t slot = p * static_cast<std::size_t>(n) + static_cast<std::size_t>(i);
-      double gap = 0;
-      for (int d = 0; d < D; ++d) gap += (x[d][i] - point[d]) * m.plane_normal[p][d];
-      const double overlap = m.radius[i] - gap;
-      if (!(overlap > 0)) {
-        if (keep)
-          for (int d = 0; d < D; ++d) s.plane_xi[d][slot] = 0.0;  // apart: the contact forgets
-        continue;
+  const int parts = m.parts > 1 ? 2 : 1;
+  const std::int32_t split = parts == 2 ? m.split : n;
+  const std::size_t planes = m.plane_point.size();
+  std::uint64_t active[2] = {0, 0};  // sums of integers: the same total in any order
+  for_parts(w.parallel, parts, [&](int part) {
+    const std::int32_t begin = part == 0 ? 0 : split, end = part == 0 ? split : n;
+    input_accelerations<D, true>(m, s, at.a, begin, end);
+    for (int k = 0; k < S; ++k) std::fill(at.alpha[k] + begin, at.alpha[k] + end, 0.0);
+    double* totals = parts == 1 ? w.plane_force.data() : w.plane_force_part.data() + part * planes;
+    active[part] = granular_planes<D, Kind>(m, s, at, t, h, keep, begin, end, totals);
+  });
+  if (parts == 2)
+    for (std::size_t p = 0; p < planes; ++p) w.plane_force[p] = w.plane_force_part[p] + w.plane_force_part[planes + p];
+  std::uint64_t carried = active[0] + active[1];
+  Columns<D> cross;
+  std::array<double*, S> cross_spin;
+  for (int d = 0; d < D; ++d) cross[d] = w.cross[d].data();
+  for (int k = 0; k < S; ++k) cross_spin[k] = w.cross_spin[k].data();
+  StepStatus part_status[2] = {StepStatus::ok, StepStatus::ok};
+  if (parts == 1) {
+    part_status[0] = granular_pairs<D, Kind>(m, s, at, h, keep, 0, s.pair_count, n, cross, cross_spin, active[0]);
+  } else {
+    // The list is sorted by i: part 0 owns the pairs with i < split.
+    const std::int32_t* first = s.pair_i.data();
+    const auto boundary = static_cast<std::int32_t>(std::lower_bound(first, first + s.pair_count, split) - first);
+    for_parts(w.parallel, 2, [&](int part) {
+      active[part] = 0;
+      if (part == 0) {
+        for (auto& c : w.cross) std::fill(c.begin(), c.end(), 0.0);
+        for (auto& c : w.cross_spin) std::fill(c.begin(), c.end(), 0.0);
+        part_status[0] = granular_pairs<D, Kind>(m, s, at, h, keep, 0, boundary, split, cross, cross_spin, active[0]);
+      } else {
+        part_status[1] =
+            granular_pairs<D, Kind>(m, s, at, h, keep, boundary, s.pair_count, n, cross, cross_spin, active[1]);
       }
-      double vi[D], wi[S], xi[D];
-      particle(i, vi, wi);
-      for (int d = 0; d < D; ++d) xi[d] = s.plane_xi[d][slot];
-      const ContactResult<D> c = plane_contact<D>(m, i, p, overlap, s.plane_speed[p], vi, wi, h, xi);
-      for (int d = 0; d < D; ++d) {
-        if (keep) s.plane_xi[d][slot] = xi[d];
-        a[d][i] += (c.fn * c.normal[d] + c.ft[d]) * m.inv_mass[i];
-      }
-      for (int k = 0; k < S; ++k) alpha[k][i] += c.torque_j[k] * m.inv_inertia[i];
-      active += c.fn != 0.0 ? plane_contact_tag(n, p, i) : 0;
-      total += c.fn;
-    }
-    w.plane_force[p] = total;
+    });
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t j = split; j < n; ++j) at.a[d][j] += cross[d][j - split];
+    for (int k = 0; k < S; ++k)
+      for (std::int32_t j = split; j < n; ++j) at.alpha[k][j] += cross_spin[k][j - split];
   }
-  StepStatus status = StepStatus::ok;
-  for (std::int32_t c = 0; c < s.pair_count; ++c) {
-    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
-    double dx[D];
-    const double dist2 = separation<D>(x, i, j, dx);
-    const double reach = m.radius[i] + m.radius[j];
-    if (!(dist2 < reach * reach)) {
-      if (keep)
-        for (int d = 0; d < D; ++d) s.pair_xi[d][c] = 0.0;
-      continue;
-    }
-    double vi[D], wi[S], vj[D], wj[S], xi[D];
-    particle(i, vi, wi);
-    particle(j, vj, wj);
-    for (int d = 0; d < D; ++d) xi[d] = s.pair_xi[d][c];
-    const ContactResult<D> r =
-        pair_contact<D>(m, i, j, s.pair_stiffness[c], s.pair_eta[c], dx, dist2, vi, vj, wi, wj, h, xi);
-    if (r.coincident) status |= StepStatus::coincident_centres;
-    for (int d = 0; d < D; ++d) {
-      if (keep) s.pair_xi[d][c] = xi[d];
-      const double f = r.fn * r.normal[d] + r.ft[d];  // on j
-      a[d][i] -= f * m.inv_mass[i];
-      a[d][j] += f * m.inv_mass[j];
-    }
-    for (int k = 0; k < S; ++k) {
-      alpha[k][i] += r.torque_i[k] * m.inv_inertia[i];
-      alpha[k][j] += r.torque_j[k] * m.inv_inertia[j];
-    }
-    active += r.fn != 0.0 ? pair_contact_tag(n, i, j) : 0;
-  }
-  fold_contacts(w.contact_signature, active);
-  return status;
+  fold_contacts(w.contact_signature, carried + active[0] + active[1]);
+  return part_status[0] | part_status[1];
 }
+
+}  // namespace
 
 /// Stage 2: the grid's pair list rebuilt at x when stale. The records of the
 /// old list (its tangential springs) follow their pair (i, j) into the new
@@ -260,7 +622,14 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
 template <int D>
 StepStatus granular_broad_phase(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   if (m.features.broad_phase != BroadPhase::grid) return StepStatus::ok;
-  if (s.pairs_valid && !moved_past_half_skin<D>(m, s, x, 0, m.n)) return StepStatus::ok;
+  if (s.pairs_valid) {
+    bool moved[2] = {false, false};
+    const int parts = m.parts > 1 ? 2 : 1;
+    for_parts(w.parallel, parts, [&](int part) {
+      moved[part] = moved_past_half_skin<D>(m, s, x, part == 0 ? 0 : m.split, part == 0 && parts == 2 ? m.split : m.n);
+    });
+    if (!moved[0] && !moved[1]) return StepStatus::ok;
+  }
   const std::int32_t old_count = s.pair_count;
   for (std::int32_t c = 0; c < old_count; ++c) {
     w.old_pair_i[c] = s.pair_i[c];
@@ -291,15 +660,6 @@ StepStatus granular_broad_phase(const DemModel<D>& m, DemState<D>& s, DemWorkspa
   return StepStatus::ok;
 }
 
-/// Where an evaluation reads the state and writes its accelerations.
-template <int D>
-struct Views {
-  ConstColumns<D> x, v;
-  std::array<const double*, spin_components(D)> spin;
-  Columns<D> a;
-  std::array<double*, spin_components(D)> alpha;
-};
-
 /// Stages 2 and 3 at one state: broad phase at its positions, then its forces
 /// with the springs advanced by `offset` (kept or not), the contacts timed.
 template <int D>
@@ -310,7 +670,7 @@ StepStatus evaluate_at(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w,
   w.eval_time = t;
   const std::int64_t start = w.clock_ns != nullptr ? w.clock_ns() : 0;
   const StepStatus status =
-      built | granular_forces<D>(m, s, w, at.x, at.v, at.spin, at.a, at.alpha, t, offset, keep);
+      built | with_law<D>(m, [&]<class Kind>(Kind) { return granular_forces<D, Kind>(m, s, w, at, t, offset, keep); });
   if (w.clock_ns != nullptr) w.profile.contacts_ns += w.clock_ns() - start;
   return status;
 }
@@ -335,6 +695,14 @@ StepStatus granular_evaluate_current(const DemModel<D>& m, DemState<D>& s, DemWo
 }
 
 namespace {
+
+/// Runs f(begin, end) over the model's parts (particles [0, split) and
+/// [split, n), or all in one part) through the host's workers.
+template <int D, class F>
+void over_parts(const DemModel<D>& m, DemWorkspace<D>& w, F&& f) {
+  if (m.parts <= 1) return f(std::int32_t{0}, m.n);
+  for_parts(w.parallel, 2, [&](int part) { f(part == 0 ? 0 : m.split, part == 0 ? m.split : m.n); });
+}
 
 /// Columns a one-step integrator advances: a coordinate q (position, or the
 /// 2D angle; none for a 3D orientation, which is not tracked), its rate
@@ -539,12 +907,15 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     if (has(status, kStepNotTaken)) return status;
   } else {
     // Stage 1: kick and drift. Verlet: q' ← q' + h/2 q''; symplectic Euler: q' ← q' + h q''; then q ← q + h q'.
+    // Element by element: the model's parts (over_parts) give the same bits.
     const double kick = verlet ? half : h;
-    for (const Column& c : cols) {
-      for (std::int32_t i = 0; i < n; ++i) c.rate_half[i] = c.rate[i] + kick * c.acc[i];
-      if (c.q != nullptr)
-        for (std::int32_t i = 0; i < n; ++i) c.q1[i] = c.q[i] + h * c.rate_half[i];
-    }
+    over_parts(m, w, [&](std::int32_t begin, std::int32_t end) {
+      for (const Column& c : cols) {
+        for (std::int32_t i = begin; i < end; ++i) c.rate_half[i] = c.rate[i] + kick * c.acc[i];
+        if (c.q != nullptr)
+          for (std::int32_t i = begin; i < end; ++i) c.q1[i] = c.q[i] + h * c.rate_half[i];
+      }
+    });
 
     // Stages 2 and 3: broad phase and forces at the trial state (the dashpots
     // and the springs see the kicked rates, as in the frictionless Verlet).
@@ -552,8 +923,10 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     if (has(status, kStepNotTaken)) return status;
     // Stage 4: Verlet's final kick q' ← q' + h/2 q''(trial).
     if (verlet)
-      for (const Column& c : cols)
-        for (std::int32_t i = 0; i < n; ++i) c.rate1[i] = c.rate_half[i] + half * c.acc1[i];
+      over_parts(m, w, [&](std::int32_t begin, std::int32_t end) {
+        for (const Column& c : cols)
+          for (std::int32_t i = begin; i < end; ++i) c.rate1[i] = c.rate_half[i] + half * c.acc1[i];
+      });
   }
 
   // Stage 5: commit (swaps) and books.
@@ -591,16 +964,26 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
   // Finite: every column the step wrote, the springs and the step's inputs.
+  // (zero_probe: 0 or NaN whatever the order of the sums, so parts may take it.)
   double probe = 0.0 * start_time + 0.0 * s.energy.reference + 0.0 * s.energy.work;
-  for (int d = 0; d < D; ++d) {
-    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.x[d][i] + 0.0 * s.v[d][i] + 0.0 * s.hist_a[s.history_head][d][i];
-    for (std::int32_t c = 0; c < s.pair_count; ++c) probe += 0.0 * s.pair_xi[d][c];
-    for (const double value : s.plane_xi[d]) probe += 0.0 * value;
+  double per_part[2] = {0, 0};
+  const int head = s.history_head;
+  over_parts(m, w, [&](std::int32_t begin, std::int32_t end) {
+    double sum = 0;
+    for (int d = 0; d < D; ++d)
+      sum += zero_probe<3>({s.x[d].data(), s.v[d].data(), s.hist_a[head][d].data()}, begin, end);
+    for (int k = 0; k < S; ++k) sum += zero_probe<2>({s.w[k].data(), s.hist_alpha[head][k].data()}, begin, end);
+    for (const auto& c : s.angle) sum += zero_probe<1>({c.data()}, begin, end);
+    per_part[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
+  });
+  probe += per_part[0] + per_part[1];
+  std::array<const double*, D> springs;
+  for (int d = 0; d < D; ++d) springs[d] = s.pair_xi[d].data();
+  probe += zero_probe<D>(springs, 0, s.pair_count);
+  for (std::size_t p = 0; p < s.plane_offset.size(); ++p) {
+    for (int d = 0; d < D; ++d) springs[d] = s.plane_xi[d].data() + p * static_cast<std::size_t>(n);
+    probe += zero_probe<D>(springs, 0, n);
   }
-  for (int k = 0; k < S; ++k)
-    for (std::int32_t i = 0; i < n; ++i) probe += 0.0 * s.w[k][i] + 0.0 * s.hist_alpha[s.history_head][k][i];
-  for (const auto& c : s.angle)
-    for (const double value : c) probe += 0.0 * value;
   for (std::size_t p = 0; p < s.plane_offset.size(); ++p)
     probe += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
   if (!(probe == 0.0)) status |= StepStatus::non_finite;
