@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include "xfdem/bar.hpp"
+#include "xfem/reference.hpp"
 
 namespace {
 
@@ -11,20 +12,12 @@ using xfdem::BarDesc;
 using xfdem::BarInterfaceDesc;
 
 BarDesc rod(int elements, bool fem, bool unilateral) {
-  BarDesc d;
-  d.length = 30.0;
-  d.youngs_modulus = 3e7;
-  d.area = 0.4;
-  d.density = 2000.0;
-  d.elements = elements;
+  BarDesc d = xfdem::test::v2_rod(elements);
   d.method = fem ? BarDesc::Method::fem : BarDesc::Method::xfem;
   d.beta = 0.4;
   d.gamma = 0.6;
-  d.dt = 1e-3;
-  d.tip_load = BarDesc::TipLoad::half_sine;
   // Tension opens a unilateral interface, so both branches of the active set run.
-  d.tip_amplitude = unilateral ? 1e4 : -1e4;
-  d.tip_duration = 0.25;
+  if (unilateral) d.tip_amplitude = -d.tip_amplitude;
   d.interface = BarInterfaceDesc{14.5, 1.2e9,
                                  unilateral ? BarInterfaceDesc::Behaviour::unilateral : BarInterfaceDesc::Behaviour::tied};
   return d;

@@ -34,6 +34,7 @@
 
 #include "dem_only/v1_step.hpp"
 #include "support/coupled_scenes.hpp"
+#include "xfem/reference.hpp"
 #include "xfdem/bar.hpp"
 #include "xfdem/coupled.hpp"
 #include "xfdem/dem.hpp"
@@ -205,19 +206,10 @@ BENCHMARK(BM_Skip_Gravity_Cloud)->Arg(1000)->Arg(8000)->Unit(benchmark::kMillise
 /// The V2 rod (30 m, E = 3e7 Pa, A = 0.4 m^2, 2000 kg/m^3, Newmark 0.4/0.6,
 /// dt = 1 ms, half-sine tip load), optionally cut by a tied interface at 14.5 m.
 BarDesc rod(int elements, BarDesc::Method method, bool cut) {
-  BarDesc d;
-  d.length = 30.0;
-  d.youngs_modulus = 3e7;
-  d.area = 0.4;
-  d.density = 2000.0;
-  d.elements = elements;
+  BarDesc d = test::v2_rod(elements);
   d.method = method;
   d.beta = 0.4;
   d.gamma = 0.6;
-  d.dt = 1e-3;
-  d.tip_load = BarDesc::TipLoad::half_sine;
-  d.tip_amplitude = -1e4;
-  d.tip_duration = 0.25;
   if (cut) d.interface = BarInterfaceDesc{14.5, 1.2e9, BarInterfaceDesc::Behaviour::tied};
   return d;
 }
