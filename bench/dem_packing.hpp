@@ -52,6 +52,18 @@ struct Packing {
   double top = 0;                               ///< height of the lid (m)
 };
 
+/// Builds `desc` once to learn the integrator's single-contact stable step,
+/// then again with dt = fraction of it; desc.dt is that step on return.
+inline void build_at_stable_fraction(DemDesc<3>& desc, double fraction, DemModel<3>& model, DemState<3>& state,
+                                     DemWorkspace<3>& work) {
+  desc.dt = 1.0;
+  desc.reject_unstable_dt = false;
+  require(build_dem(desc, model, state, work).ok(), "packing: build failed");
+  desc.dt = fraction * model.stable_dt;
+  desc.reject_unstable_dt = true;
+  require(build_dem(desc, model, state, work).ok(), "packing: build failed");
+}
+
 inline DemDesc<3> packing_desc(const std::vector<std::array<double, 3>>& position, double side, double top) {
   DemDesc<3> desc;
   desc.particles.reserve(position.size());
@@ -93,12 +105,7 @@ inline const Packing& packing(std::int32_t n) {
   DemModel<3> model;
   DemState<3> state;
   DemWorkspace<3> work;
-  desc.dt = 1.0;
-  desc.reject_unstable_dt = false;
-  require(build_dem(desc, model, state, work).ok(), "packing: build failed");
-  desc.dt = 0.5 * model.stable_dt;
-  desc.reject_unstable_dt = true;
-  require(build_dem(desc, model, state, work).ok(), "packing: build failed");
+  build_at_stable_fraction(desc, 0.5, model, state, work);
 
   // Fall under gravity with contact damping only, then bleed off what is left
   // of the kinetic energy (velocities halved every 25 steps).
@@ -226,12 +233,7 @@ inline DemDesc<3> packing_run_desc(const Packing& pk, DemIntegrator integrator, 
 /// step (a packed sphere has several contacts and higher frequencies than one
 /// contact); desc.dt is that step on return.
 inline void build_packing_run(DemDesc<3>& desc, DemModel<3>& model, DemState<3>& state, DemWorkspace<3>& work) {
-  desc.dt = 1.0;
-  desc.reject_unstable_dt = false;
-  require(build_dem(desc, model, state, work).ok(), "packing: build failed");
-  desc.dt = 0.2 * model.stable_dt;
-  desc.reject_unstable_dt = true;
-  require(build_dem(desc, model, state, work).ok(), "packing: build failed");
+  build_at_stable_fraction(desc, 0.2, model, state, work);
 }
 
 }  // namespace xfdem_bench
