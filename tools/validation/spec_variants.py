@@ -723,8 +723,9 @@ def scene_dem(name, dim, parts, planes, contact, integ, dt, end, every, probes, 
 
 def cases_friction():
     m, r, k = 0.8, 0.04, 2e5
-    for dim in (2, 3):
-        kappa = 0.5 if dim == 2 else 0.4          # I / (m r^2)
+    for dim, kap_given, law in ((2, None, "linear"), (3, None, "linear"), (2, 0.3, "linear"), (2, None, "hertz"),
+                                (3, None, "hertz")):
+        kappa = kap_given or (0.5 if dim == 2 else 0.4)          # I / (m r^2)
         ratio_roll = 1 + 1 / kappa                  # tan(th) <= ratio * mu rolls (3 or 3.5)
         for th_deg, mu, integ in ((20, 0.3, "verlet"), (35, 0.15, "rk4"), (25, 0.2, "symplectic_euler"),
                                   (30, 0.1, "abm4")):
@@ -732,6 +733,9 @@ def cases_friction():
             n = np.array([-math.sin(th), math.cos(th)])
             tvec = np.array([math.cos(th), math.sin(th)])        # up the slope
             d0 = m * G * math.cos(th) / k                          # static overlap: no bounce
+            Eh, nuh = 1e9, 0.3
+            if law == "hertz":
+                d0 = (0.75 * m * G * math.cos(th) / (Eh / (1 - nuh ** 2) * math.sqrt(r))) ** (2 / 3)
             p0 = (r - d0) * n
             end, dt = 0.5, 2e-5
             if dim == 2:
@@ -752,12 +756,18 @@ def cases_friction():
                 probes.append({"name": "rot", "particle": "d", "quantity": "rotation"})
                 probes.append({"name": "Ftr", "quantity": "contact_force", "between": ["plane0", "d"],
                                "part": "tangential"})
-            sc = scene_dem(f"incline_{dim}d_{th_deg}deg_mu{mu}", dim,
-                           [{"name": "d", "mass": m, "radius": r, "stiffness": k, "position": pos,
-                             "velocity": [0.0] * dim, "angular_velocity": w0}],
-                           [{"point": pt, "normal": nrm}],
-                           {"law": "linear", "damping_ratio": 0.3, "friction": mu, "tangential_stiffness_ratio": 0.8},
-                           integ, dt, end, 0.01, probes, g)
+            part = {"name": "d", "mass": m, "radius": r, "stiffness": k, "position": pos,
+                    "velocity": [0.0] * dim, "angular_velocity": w0}
+            contact = {"law": "linear", "damping_ratio": 0.3, "friction": mu, "tangential_stiffness_ratio": 0.8}
+            if law == "hertz":
+                del part["stiffness"]
+                part.update({"youngs_modulus": Eh, "poisson_ratio": nuh})
+                contact = {"law": "hertz", "restitution": 0.5, "friction": mu}
+            sc = scene_dem(f"incline_{dim}d_{th_deg}deg_mu{mu}" + ("_inertia" if kap_given else "")
+                           + ("_hertz" if law == "hertz" else ""), dim, [part],
+                           [{"point": pt, "normal": nrm}], contact, integ, dt, end, 0.01, probes, g)
+            if kap_given:
+                sc["dem"]["particles"][0]["inertia"] = kap_given * m * r * r
             out = run(sc)
             rolls = math.tan(th) <= ratio_roll * mu
             if rolls:
@@ -800,6 +810,44 @@ def cases_friction():
             else:
                 report(sc["name"] + " |F_t|", abs(out["Ft"][-1] - f_on_disk_t) / (m * G), 1e-2, "closed form")
 
+    # Two equal disks/spheres, oblique, gross sliding, no damping, no
+    # gravity: J = m v_n (m_eff = m/2, e = 1): the normal velocities
+    # exchange, v_t changes by mu J / m on each, and both turn by
+    # -mu J r / I (the friction's moments about each centre have one sign).
+    # Gross sliding: the slip 0.2 m/s exceeds the change 2 mu v_n (1 + 1/kappa).
+    for dim, integ in ((2, "verlet"), (3, "rk4")):
+        kappa = 0.5 if dim == 2 else 0.4
+        vn, vt, mu, kp = 1.2, 0.2, 0.02, 2e7
+        z = [0.0] if dim == 3 else []
+        wz = 0.0 if dim == 2 else [0.0, 0.0, 0.0]
+        parts = [{"name": "a", "mass": m, "radius": r, "stiffness": kp, "position": [-r - 1e-4, 0.0] + z,
+                  "velocity": [vn, vt] + z, "angular_velocity": wz},
+                 {"name": "b", "mass": m, "radius": r, "stiffness": kp, "position": [r + 1e-4, 0.0] + z,
+                  "velocity": [0.0, 0.0] + z, "angular_velocity": wz}]
+        probes = []
+        for nmp in ("a", "b"):
+            probes += [{"name": f"vx{nmp}", "particle": nmp, "quantity": "velocity", "component": 0},
+                       {"name": f"vy{nmp}", "particle": nmp, "quantity": "velocity", "component": 1},
+                       dict({"name": f"w{nmp}", "particle": nmp, "quantity": "angular_velocity"},
+                            **({"component": 2} if dim == 3 else {}))]
+        sc = scene_dem(f"pair_oblique_{dim}d", dim, parts, [],
+                       {"law": "linear_nontensile", "damping_ratio": 0.0, "friction": mu,
+                        "tangential_stiffness_ratio": 0.8}, integ, 1e-7, 0.002, 1e-5, probes, [0.0] * dim)
+        out = run(sc)
+        J = m * vn
+        wref = -mu * J * r / (kappa * m * r * r)
+        # spins and normal velocities: the line of centres turns by
+        # theta = v_t t_c / (2 r) during the contact, a second-order change
+        tc = math.pi / math.sqrt(kp / 2 / (m / 2))
+        theta = vt * tc / (2 * r)
+        e = max(abs(out["vxa"][-1]) / vn, abs(out["vxb"][-1] - vn) / vn,
+                abs(out["wa"][-1] - wref) / abs(wref), abs(out["wb"][-1] - wref) / abs(wref))
+        report(sc["name"] + " v_n exchange and spins", e, max(1e-3, 4 * theta ** 2), "gross sliding; O(theta^2)")
+        # tangential velocities: the normal impulse tilts by up to theta,
+        # J theta against mu J: first order theta / mu
+        e = max(abs(out["vya"][-1] - (vt - mu * J / m)), abs(out["vyb"][-1] - mu * J / m)) / (mu * J / m)
+        report(sc["name"] + " v_t", e, theta / mu, "gross sliding; the contact line turns by theta")
+
     # Oblique impact on a floor, gross sliding, no damping (e = 1, the
     # nontensile law never pulls): J = 2 m v_n; v_t' = v_t - mu J / m,
     # omega' = -mu J r / I (2D, counterclockwise +). Sliding throughout when
@@ -832,33 +880,48 @@ def cases_friction():
     # Hertz normal impact (rigid wall, e = 1): contact duration
     # t_c = 2 (d_max / v) int_0^1 dx / sqrt(1 - x^(5/2)),
     # d_max = (15 m v^2 / (16 E* sqrt(R)))^(2/5)
-    for dim in (2, 3):
+    for dim, wall, pair in ((2, None, False), (3, None, False), (2, (2e9, 0.4), False), (3, (5e9, 0.2), False),
+                            (2, None, True), (3, None, True)):
         Ey, nu, v0, rh = 7e9, 0.3, 0.8, 0.03
         Es = Ey / (1 - nu * nu)
-        dmax = (15 * m * v0 * v0 / (16 * Es * math.sqrt(rh))) ** 0.4
+        if wall:
+            Es = 1 / ((1 - nu * nu) / Ey + (1 - wall[1] ** 2) / wall[0])
+        mm, Rs = m, rh
+        if pair:   # two equal spheres meeting at v0 each way: m* = m/2, R* = r/2, closing speed 2 v0
+            Es, mm, Rs = Ey / (2 * (1 - nu * nu)), m / 2, rh / 2
+        vc = 2 * v0 if pair else v0
+        dmax = (15 * mm * vc * vc / (16 * Es * math.sqrt(Rs))) ** 0.4
         xq = (np.arange(200000) + 0.5) / 200000
         # int dx / sqrt(1 - x^2.5): substitute x = 1 - s^2 to remove the end singularity
         sq = (np.arange(200000) + 0.5) / 200000
         xs = 1 - sq * sq
         integral = float(np.sum(2 * sq / np.sqrt(1 - xs ** 2.5)) / 200000)
-        tc = 2 * dmax / v0 * integral
+        tc = 2 * dmax / vc * integral
         dt = tc / 4000
-        pos = [0.0, rh + 1e-4] + ([0.0] if dim == 3 else [])
-        sc = scene_dem(f"hertz_{dim}d", dim,
-                       [{"name": "d", "mass": m, "radius": rh, "youngs_modulus": Ey, "poisson_ratio": nu,
-                         "position": pos, "velocity": [0.0, -v0] + ([0.0] if dim == 3 else [])}],
-                       [{"point": [0.0] * dim, "normal": [0, 1] + ([0] if dim == 3 else [])}],
+        zz = [0.0] if dim == 3 else []
+        parts = [{"name": "d", "mass": m, "radius": rh, "youngs_modulus": Ey, "poisson_ratio": nu,
+                  "position": [0.0, rh + 1e-4] + zz, "velocity": [0.0, -v0] + zz}]
+        planes = [{"point": [0.0] * dim, "normal": [0, 1] + zz}]
+        if wall:
+            planes[0].update({"youngs_modulus": wall[0], "poisson_ratio": wall[1]})
+        other = "plane0"
+        if pair:
+            parts.append({"name": "e", "mass": m, "radius": rh, "youngs_modulus": Ey, "poisson_ratio": nu,
+                          "position": [0.0, -rh - 1e-4] + zz, "velocity": [0.0, v0] + zz})
+            planes, other = [], "e"
+        name = f"hertz_{dim}d" + ("_wall" if wall else "") + ("_pair" if pair else "")
+        sc = scene_dem(name, dim, parts, planes,
                        {"law": "hertz", "restitution": 1.0}, "verlet", dt, round(4 * tc / dt) * dt, dt,
-                       [{"name": "Fn", "quantity": "contact_force", "between": ["d", "plane0"], "part": "normal"},
+                       [{"name": "Fn", "quantity": "contact_force", "between": ["d", other], "part": "normal"},
                         {"name": "vy", "particle": "d", "quantity": "velocity", "component": 1}],
                        [0.0] * dim)
         out = run(sc)
         on = out["t"][out["Fn"] > 0]
         dur = on[-1] - on[0] + dt
-        report(f"hertz_{dim}d contact duration", abs(dur - tc) / tc, 2 / 4000 + 1e-3, "sampled at t_c/4000")
-        report(f"hertz_{dim}d rebound speed", abs(out["vy"][-1] - v0) / v0, 1e-3, "e = 1")
-        fmax = 4 / 3 * Es * math.sqrt(rh) * dmax ** 1.5
-        report(f"hertz_{dim}d peak force", abs(out["Fn"].max() - fmax) / fmax, 1e-3, "4/3 E* sqrt(R) d_max^1.5")
+        report(f"{name} contact duration", abs(dur - tc) / tc, 2 / 4000 + 1e-3, "sampled at t_c/4000")
+        report(f"{name} rebound speed", abs(out["vy"][-1] - v0) / v0, 1e-3, "e = 1")
+        fmax = 4 / 3 * Es * math.sqrt(Rs) * dmax ** 1.5
+        report(f"{name} peak force", abs(out["Fn"].max() - fmax) / fmax, 1e-3, "4/3 E* sqrt(R*) d_max^1.5")
 
     # Rolling resistance: a disk rolling on a floor decelerates at
     # mu_r g / (1 + kappa) and stops (the torque never reverses the roll)
