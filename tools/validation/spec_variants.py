@@ -30,7 +30,7 @@ class CliError(Exception):
     pass
 
 
-def run(scene, sets=(), name=None):
+def run(scene, sets=(), name=None, threads=None):
     """Write the scene, run the CLI, return {column: array} from its CSV.
     Checks the CSV's shape as the spec states it: header t,<probe names>, one
     row at every multiple of output.every from 0 to time.end inclusive."""
@@ -42,6 +42,8 @@ def run(scene, sets=(), name=None):
     cmd = [CLI, "run", path, "--csv", csv]
     for s in sets:
         cmd += ["--set", s]
+    if threads:
+        cmd += ["--threads", str(threads)]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         raise CliError(f"{name}: exit {p.returncode}: {p.stderr.strip()[:400]}")
@@ -281,7 +283,11 @@ def bar_newmark(L, E, A, rho, n, base, iface, beta, gamma, dt, steps, force, pro
     acc = np.linalg.solve(M, load(0.0) - C @ v - K @ u)
     S = M + gamma * dt * C + beta * dt * dt * K
 
-    def sample(u):
+    def sample(u, v=None):
+        return interp(u) + interp(v if v is not None else np.zeros_like(u))[:-1] + \
+            [0.5 * v @ (M @ v) if v is not None else 0.0, 0.5 * u @ (K @ u)]
+
+    def interp(u):
         row = []
         for x in probes_x:
             for a, b in cells:
@@ -299,7 +305,7 @@ def bar_newmark(L, E, A, rho, n, base, iface, beta, gamma, dt, steps, force, pro
             row.append(0.0)
         return row
 
-    out = [sample(u)]
+    out = [sample(u, v)]
     for s_ in range(steps):
         t1 = (s_ + 1) * dt
         ut = u + dt * v + dt * dt * (0.5 - beta) * acc
@@ -308,7 +314,7 @@ def bar_newmark(L, E, A, rho, n, base, iface, beta, gamma, dt, steps, force, pro
         u = ut + beta * dt * dt * a1
         v = vt + gamma * dt * a1
         acc = a1
-        out.append(sample(u))
+        out.append(sample(u, v))
     return np.array(out)
 
 
@@ -352,6 +358,9 @@ def scene_bar(name, L, E, A, rho, n, method, base, iface, nm, dt, end, every, lo
     probes = [{"name": f"u{i}", "bar_at": x, "quantity": "displacement"} for i, x in enumerate(probes_x)]
     if iface is not None:
         probes.append({"name": "gap", "quantity": "interface_gap"})
+    probes += [{"name": f"v{i}", "bar_at": x, "quantity": "velocity"} for i, x in enumerate(probes_x)]
+    probes += [{"name": "Ek", "quantity": "energy", "of": "kinetic"},
+               {"name": "Ee", "quantity": "energy", "of": "elastic"}]
     return {"name": name, "dimension": 1, "gravity": [-G], "time": {"end": end, "dt": dt},
             "continuum": c, "output": {"every": every, "probes": probes}}
 
@@ -400,9 +409,18 @@ def cases_rod():
                           probes_x, base_k or 0.0)
         ref = ref[:: int(round(every / dt))]
         scale = max(abs(load[1]) * L / (E * A), 1e-30)
-        err = max(np.max(np.abs(out[f"u{i}"] - ref[:, i])) for i in range(len(probes_x)))
+        npx = len(probes_x)
+        err = max(np.max(np.abs(out[f"u{i}"] - ref[:, i])) for i in range(npx))
         if iface is not None:
-            err = max(err, np.max(np.abs(out["gap"] - ref[:, -1])))
+            err = max(err, np.max(np.abs(out["gap"] - ref[:, npx])))
+        # velocities against the wave's particle speed F/(rho c A), energies
+        # against the static work F^2 L/(2EA)
+        vsc = abs(load[1]) / (rho * c * A) if load[0] != "none" else 1.0
+        esc = max(load[1] ** 2 * L / (2 * E * A), 1e-300)
+        err = max([err / scale] + [float(np.max(np.abs(out[f"v{i}"] - ref[:, npx + 1 + i]))) / vsc
+                                   for i in range(npx)]
+                  + [float(np.max(np.abs(out["Ek"] - ref[:, -2]))) / esc,
+                     float(np.max(np.abs(out["Ee"] - ref[:, -1]))) / esc]) * scale
         # Same space, same scheme: only round-off differs. The penalty
         # spring (50 EA/L per m against EA/h) and the solves lose ~1e3 eps.
         report(nm + " vs Newmark here", float(err / scale), 1e-8 if hair else 1e-10,
@@ -830,6 +848,7 @@ def cases_friction():
                        {"name": f"vy{nmp}", "particle": nmp, "quantity": "velocity", "component": 1},
                        dict({"name": f"w{nmp}", "particle": nmp, "quantity": "angular_velocity"},
                             **({"component": 2} if dim == 3 else {}))]
+        probes += [{"name": f"p{c}", "quantity": "momentum", "of": "particles", "component": c} for c in range(2)]
         sc = scene_dem(f"pair_oblique_{dim}d", dim, parts, [],
                        {"law": "linear_nontensile", "damping_ratio": 0.0, "friction": mu,
                         "tangential_stiffness_ratio": 0.8}, integ, 1e-7, 0.002, 1e-5, probes, [0.0] * dim)
@@ -847,6 +866,8 @@ def cases_friction():
         # J theta against mu J: first order theta / mu
         e = max(abs(out["vya"][-1] - (vt - mu * J / m)), abs(out["vyb"][-1] - mu * J / m)) / (mu * J / m)
         report(sc["name"] + " v_t", e, theta / mu, "gross sliding; the contact line turns by theta")
+        e = max(float(np.max(np.abs(out["p0"] - m * vn))), float(np.max(np.abs(out["p1"] - m * vt)))) / (m * vn)
+        report(sc["name"] + " momentum", e, 1e-12, "conserved: equal and opposite forces")
 
     # Oblique impact on a floor, gross sliding, no damping (e = 1, the
     # nontensile law never pulls): J = 2 m v_n; v_t' = v_t - mu J / m,
@@ -953,7 +974,29 @@ def cases_friction():
                "at rest; the torque does not reverse the roll")
 
 
-CASES = {"drop": cases_drop, "rod": cases_rod, "coupled": cases_coupled, "plate": cases_plate,
+def cases_cli():
+    """The CLI's own promises: --set with array indices and --threads N
+    giving the same bits."""
+    L, E, A, rho, n = 8.0, 5e7, 0.2, 1800.0, 16
+    parts = [(40.0, 0.3, 4e6, L + 0.7), (15.0, 0.2, 2e6, L + 1.7)]
+    sc = scene_case("cli_case2", parts, (L, E, A, rho, n, "xfem", "fixed", (3.3, 5e8), (0.25, 0.5)), 1e-3, 2.0, 1e-3)
+    texts = []
+    for th in (1, 2):
+        run(sc, threads=th)
+        texts.append(open(os.path.join(TMP, "cli_case2.csv")).read())
+    report("cli --threads 1 vs 2 (differing bytes)", float(texts[0] != texts[1]), 0.0, "same bits on any worker count")
+    # --set overrides equal the edited scene
+    sc2 = json.loads(json.dumps(sc))
+    sc2["dem"]["particles"][1]["mass"] = 22.5
+    sc2["time"]["dt"] = 5e-4
+    sc2["name"] = "cli_case2_edited"
+    a = run(sc2)
+    b = run(sc, sets=["dem.particles.1.mass=22.5", "time.dt=5e-4"], name="cli_case2_set")
+    report("cli --set vs edited scene (max |diff|)", max(float(np.max(np.abs(a[k] - b[k]))) for k in a), 0.0,
+           "the same scene")
+
+
+CASES = {"cli": cases_cli, "drop": cases_drop, "rod": cases_rod, "coupled": cases_coupled, "plate": cases_plate,
          "friction": cases_friction}
 
 
