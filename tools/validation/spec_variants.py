@@ -491,17 +491,23 @@ def cases_coupled():
         ("c1_xfem_top", "xfem", L - 0.1 * h, (0.3025, 0.6), "abm4", 10, False),
         ("c2_xfem_abm4_n10", "xfem", 5.9, (0.3025, 0.6), "abm4", 10, True),
         ("c2_fem_verlet_n4", "fem", 5.9, (0.3025, 0.6), "verlet", 4, True),
+        ("c1_xfem_nontensile", "xfem", 3.3, (0.3025, 0.6), "rk4", 3, False),
+        ("c1_xfem_unilateral", "xfem", 3.3, (0.3025, 0.6), "abm4", 10, False),
+        ("c2_fem_unilateral_seuler_n13", "fem", 5.9, (0.3025, 0.6), "symplectic_euler", 13, True),
+        ("c1_no_interface", "fem", None, (0.3025, 0.6), "verlet", 2, False),
     ]:
         parts = [(m1, r1, k1, L + r1 + 0.4)]
         if two:
             parts.append((m2, r2, k2, L + 2 * r1 + r2 + 0.9))
-        sc = scene_case(nm, parts, (L, E, A, rho, n, method, "absorbing", (xi, k_if), nmk), 1e-3, 10.0, 1e-3,
-                        integ, subs)
+        sc = scene_case(nm, parts, (L, E, A, rho, n, method, "absorbing", None if xi is None else (xi, k_if), nmk),
+                        1e-3, 10.0, 1e-3, integ, subs, law="linear_nontensile" if "nontensile" in nm else "linear")
         sc["continuum"]["base_stiffness"] = ks
+        if "unilateral" in nm:
+            sc["continuum"]["interface"]["behaviour"] = "unilateral"
         out = run(sc)
         ends[nm] = out
         W = W1 + (W2 if two else 0)
-        top = L - W / ks - W * L / (E * A) - W / k_if
+        top = L - W / ks - W * L / (E * A) - (W / k_if if xi is not None else 0.0)
         y1 = top + r1 - W / k1
         # the settled state: springs in series under the weights
         report(nm + " settled y1", abs(out["y1"][-1] - y1) / (W / k1), 1e-6,
@@ -518,6 +524,8 @@ def cases_coupled():
         d1 = r1 - (out["y1"] - (L + out["u0"]))
         v_top = np.concatenate([[0.0], np.diff(out["u0"]) / 1e-3])
         f_on = k1 * d1 + 2 * zeta_c * math.sqrt(k1 * m1) * (v_top - out["v1"])
+        if "nontensile" in nm:
+            f_on = np.maximum(f_on, 0.0)
         e1 = np.where(d1 > 0, np.abs(out["F1"] - f_on), np.abs(out["F1"]))
         # an overlap within the round-off of 8 m positions (1e-13 m) may be
         # either side of zero: the dashpot's eta d' jumps there
@@ -943,6 +951,52 @@ def cases_friction():
         report(f"{name} rebound speed", abs(out["vy"][-1] - v0) / v0, 1e-3, "e = 1")
         fmax = 4 / 3 * Es * math.sqrt(Rs) * dmax ** 1.5
         report(f"{name} peak force", abs(out["Fn"].max() - fmax) / fmax, 1e-3, "4/3 E* sqrt(R*) d_max^1.5")
+
+    # Hertz with restitution e < 1: the rebound speed against this file's
+    # own integration of the spec's normal law, m d'' = -4/3 E* sqrt(R) d^1.5
+    # - 2 sqrt(5/6) beta sqrt(S_n m) d', S_n = 2 E* sqrt(R d) (RK4, 2e5 steps
+    # over the contact: its error is far below the CLI's)
+    for dim, e_in in ((2, 0.6), (3, 0.85)):
+        Ey, nu, v0, rh = 7e9, 0.3, 0.8, 0.03
+        Es = Ey / (1 - nu * nu)
+        beta = math.log(e_in) / math.sqrt(math.log(e_in) ** 2 + math.pi ** 2)
+
+        def acc(d, dd):
+            dp = max(d, 0.0)
+            c = -2 * math.sqrt(5 / 6) * beta * math.sqrt(2 * Es * math.sqrt(rh * dp) * m)
+            return -((4 / 3) * Es * math.sqrt(rh) * dp ** 1.5 + c * dd) / m
+        # state: the overlap d (> 0 in contact) and its rate; the force on the
+        # particle is K d^1.5 + c d' (up), so d'' = -(K d^1.5 + c d') / m
+        dmax = (15 * m * v0 * v0 / (16 * Es * math.sqrt(rh))) ** 0.4
+        h = (dmax / v0) / 40000
+        d, dd = 0.0, v0
+        while True:
+            def f(d_, dd_):
+                return dd_, acc(d_, dd_)
+            k1 = f(d, dd)
+            k2 = f(d + h / 2 * k1[0], dd + h / 2 * k1[1])
+            k3 = f(d + h / 2 * k2[0], dd + h / 2 * k2[1])
+            k4 = f(d + h * k3[0], dd + h * k3[1])
+            dn = d + h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
+            ddn = dd + h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+            if dn <= 0 and ddn < 0:
+                # back to zero overlap within this step: the rate barely changes
+                d, dd = dn, ddn
+                break
+            d, dd = dn, ddn
+        v_out = -dd
+        zz = [0.0] if dim == 3 else []
+        dt = (dmax / v0) / 2000
+        sc = scene_dem(f"hertz_restitution_{dim}d_e{e_in}", dim,
+                       [{"name": "d", "mass": m, "radius": rh, "youngs_modulus": Ey, "poisson_ratio": nu,
+                         "position": [0.0, rh + 1e-5] + zz, "velocity": [0.0, -v0] + zz}],
+                       [{"point": [0.0] * dim, "normal": [0, 1] + zz}],
+                       {"law": "hertz", "restitution": e_in}, "verlet", dt, round(10 * dmax / v0 / dt) * dt, dt,
+                       [{"name": "vy", "particle": "d", "quantity": "velocity", "component": 1}], [0.0] * dim)
+        out = run(sc)
+        # velocity Verlet at 2000 steps per d_max / v0: second order, ~1e-6
+        report(sc["name"] + " rebound vs the law integrated here", abs(out["vy"][-1] - v_out) / v0, 1e-4,
+               f"verlet O(dt^2); e_out = {v_out / v0:.4f}")
 
     # Rolling resistance: a disk rolling on a floor decelerates at
     # mu_r g / (1 + kappa) and stops (the torque never reverses the roll)
