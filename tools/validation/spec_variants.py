@@ -674,6 +674,56 @@ def cases_plate():
     report("plate_slow_dynamic u vs modal series", abs(out["ux"][-1] - ref) / ust, 1e-3,
            "mesh and Newmark error on the dynamic part")
 
+    # A P wave down a strip on rollers (uniaxial strain: modulus
+    # lambda + 2 mu), pulled at its left edge, an absorbing right edge: the
+    # loaded edge moves at sigma / (rho c_p) for ever (nothing reflects), the
+    # far edge likewise from the wave's arrival on (d'Alembert)
+    E, nu, rho_p = 5e9, 0.25, 2000.0
+    lam, mu_ = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    cp = math.sqrt((lam + 2 * mu_) / rho_p)
+    Lx, nc = 4.0, 200
+    dt = Lx / nc / cp / 2
+    end = round(3 * Lx / cp / dt) * dt
+    probes = [{"name": "u0", "quantity": "displacement", "at": [0, 0.05], "component": 0},
+              {"name": "ur", "quantity": "displacement", "at": [Lx, 0.05], "component": 0}]
+    sc = scene_plate("plate_p_wave_absorbing", [0, 0], [Lx, 0.1], [nc, 1], E, nu, rho_p, "strain",
+                     [{"edge": "bottom", "fix": ["y"]}, {"edge": "top", "fix": ["y"]},
+                      {"edge": "right", "fix": [], "absorbing": True}],
+                     [{"edge": "left", "traction": [-sig, 0], "shape": "step"}], probes,
+                     analysis="dynamic", time=(end, dt, 10 * dt))
+    out = run(sc)
+    v = sig / (rho_p * cp)
+    tt = out["t"]
+    e0 = float(np.max(np.abs(out["u0"] + v * tt))) / (v * end)
+    er = float(np.max(np.abs(out["ur"] + v * np.maximum(tt - Lx / cp, 0)))) / (v * end)
+    # the step front's dispersion (Gibbs ringing, a few cells wide) is the
+    # error: ~ h / (c t) of the displacement
+    report("plate_p_wave_absorbing loaded edge u", e0, 0.01, "d'Alembert; front dispersion ~ h")
+    report("plate_p_wave_absorbing far edge u (no reflection)", er, 0.01, "d'Alembert; front dispersion ~ h")
+
+    # A circular inclusion in a large plate under remote tension (plane
+    # strain): the stress inside is uniform (Eshelby; Muskhelishvili):
+    # sxx + syy = s mu2 (k1 + 1) / (2 mu2 + mu1 (k2 - 1)),
+    # sxx - syy = s mu2 (k1 + 1) / (mu2 k1 + mu1), k = 3 - 4 nu
+    E1, n1 = 7e10, 0.3
+    for E2, n2 in ((2e11, 0.25), (1e10, 0.35)):
+        a, Lh = 0.1, 1.5
+        probes = [{"name": "sxx", "quantity": "stress", "at": [0.02, 0.03], "component": "xx"},
+                  {"name": "syy", "quantity": "stress", "at": [0.02, 0.03], "component": "yy"}]
+        sc = scene_plate(f"plate_inclusion_E{E2:g}", [0, 0], [Lh, Lh], [60, 60], E1, n1, 2000, "strain",
+                         [{"edge": "left", "fix": ["x"]}, {"edge": "bottom", "fix": ["y"]}],
+                         [{"edge": "right", "traction": [sig, 0], "shape": "step"}], probes,
+                         [{"name": "inc", "type": "inclusion", "circle": {"centre": [0, 0], "radius": a},
+                           "material": {"youngs_modulus": E2, "poisson_ratio": n2, "density": 2000}}])
+        out = run(sc)
+        mu1, mu2 = E1 / (2 * (1 + n1)), E2 / (2 * (1 + n2))
+        k1_, k2_ = 3 - 4 * n1, 3 - 4 * n2
+        S = sig * mu2 * (k1_ + 1) / (2 * mu2 + mu1 * (k2_ - 1))
+        D = sig * mu2 * (k1_ + 1) / (mu2 * k1_ + mu1)
+        e = max(abs(out["sxx"][0] - (S + D) / 2), abs(out["syy"][0] - (S - D) / 2)) / sig
+        # a plate 15 a wide: the far field is uniform to ~(a/L)^2; Q4 at h = a/4
+        report(sc["name"] + " stress inside vs Eshelby", e, 0.01, "finite plate (a/L)^2 + mesh, of s")
+
     # Kirsch: a hole of radius a in a quarter plate (symmetry supports),
     # sigma_xx at (0, r) = sig (1 + a^2/(2r^2) + 3a^4/(2r^4)); 3 sig at r = a
     a, Lq = 0.1, 1.2
