@@ -886,6 +886,37 @@ def cases_friction():
             else:
                 report(sc["name"] + " |F_t|", abs(out["Ft"][-1] - f_on_disk_t) / (m * G), 1e-2, "closed form")
 
+    # 3D: a sphere on a slope whose downhill direction is not in a
+    # coordinate plane: rolling at 5/7 g sin(th) with omega = n x v / r
+    # (n the plane's normal), sliding at g (sin - mu cos) with the spin
+    # about n x (downhill) at mu g cos(th) r / (0.4 r^2)
+    for th_deg, phi_deg, mu in ((22, 35, 0.3), (33, -120, 0.1)):
+        th, ph = math.radians(th_deg), math.radians(phi_deg)
+        down = np.array([math.cos(th) * math.cos(ph), -math.sin(th), math.cos(th) * math.sin(ph)])
+        nrm = np.array([math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph)])
+        d0 = m * G * math.cos(th) / k
+        p0 = (r - d0) * nrm
+        probes = [{"name": f"v{c}", "particle": "d", "quantity": "velocity", "component": c} for c in range(3)]
+        probes += [{"name": f"w{c}", "particle": "d", "quantity": "angular_velocity", "component": c} for c in range(3)]
+        sc = scene_dem(f"incline_3d_skew_{th_deg}deg_mu{mu}", 3,
+                       [{"name": "d", "mass": m, "radius": r, "stiffness": k, "position": list(p0),
+                         "velocity": [0.0, 0.0, 0.0], "angular_velocity": [0.0, 0.0, 0.0]}],
+                       [{"point": [0, 0, 0], "normal": list(nrm)}],
+                       {"law": "linear", "damping_ratio": 0.3, "friction": mu, "tangential_stiffness_ratio": 0.8},
+                       "verlet", 2e-5, 0.5, 0.01, probes, [0.0, -G, 0.0])
+        out = run(sc)
+        t = out["t"][-1]
+        v = np.array([out[f"v{c}"][-1] for c in range(3)])
+        w = np.array([out[f"w{c}"][-1] for c in range(3)])
+        if math.tan(th) <= 3.5 * mu:
+            vref = 5 / 7 * G * math.sin(th) * t * down
+            wref = np.cross(nrm, vref) / r
+        else:
+            vref = G * (math.sin(th) - mu * math.cos(th)) * t * down
+            wref = mu * G * math.cos(th) * t / (0.4 * r) * np.cross(nrm, down)
+        e = max(np.linalg.norm(v - vref) / np.linalg.norm(vref), np.linalg.norm(w - wref) / np.linalg.norm(wref))
+        report(sc["name"] + " v and omega vectors", float(e), 0.01, "spring transients ~ 1 %")
+
     # Two equal disks/spheres, oblique, gross sliding, no damping, no
     # gravity: J = m v_n (m_eff = m/2, e = 1): the normal velocities
     # exchange, v_t changes by mu J / m on each, and both turn by
@@ -970,7 +1001,6 @@ def cases_friction():
             Es, mm, Rs = Ey / (2 * (1 - nu * nu)), m / 2, rh / 2
         vc = 2 * v0 if pair else v0
         dmax = (15 * mm * vc * vc / (16 * Es * math.sqrt(Rs))) ** 0.4
-        xq = (np.arange(200000) + 0.5) / 200000
         # int dx / sqrt(1 - x^2.5): substitute x = 1 - s^2 to remove the end singularity
         sq = (np.arange(200000) + 0.5) / 200000
         xs = 1 - sq * sq
