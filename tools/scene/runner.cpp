@@ -70,6 +70,7 @@ class DemSystem {
       case Probe::Kind::plane_tangential_force: return dem_plane_tangential_force(model_, state_, p.particle, p.other);
       case Probe::Kind::particle_angular_velocity: return dem_angular_velocity(model_, state_, p.particle, p.component);
       case Probe::Kind::particle_rotation: return dem_rotation(model_, state_, p.particle);
+      case Probe::Kind::momentum_particles: return dem_momentum(model_, state_, p.component);
       case Probe::Kind::energy_total: {
         const DemEnergy e = dem_energy(model_, state_);
         return e.kinetic + e.elastic + e.potential;

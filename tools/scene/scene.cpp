@@ -321,8 +321,16 @@ Scene parse_scene(const Json& document) {
       continue;
     }
     const std::string quantity = p.choice("quantity", {"position", "velocity", "displacement", "contact_force",
-                                                       "interface_gap", "energy", "angular_velocity", "rotation"});
-    if (quantity == "angular_velocity" || quantity == "rotation") {
+                                                       "interface_gap", "energy", "angular_velocity", "rotation",
+                                                       "momentum"});
+    if (quantity == "momentum") {
+      // scenes-2d.md: Σ m v of the particles (the plate's own is in plate_json.cpp)
+      if (scene.has_continuum) p.fail("quantity", "'momentum': for particles alone or a plate, not the bar");
+      if (p.choice("of", {"total", "continuum", "particles"}) == "continuum")
+        p.fail("of", "'continuum': the scene has no continuum");
+      probe.kind = Probe::Kind::momentum_particles;
+      probe.component = static_cast<int>(p.integer("component", 0, scene.dimension - 1));
+    } else if (quantity == "angular_velocity" || quantity == "rotation") {
       if (scene.dimension == 1) p.fail("quantity", "'" + quantity + "': rods on a line do not rotate");
       if (quantity == "rotation" && scene.dimension != 2) p.fail("quantity", "'rotation' (the angle turned) is 2D only");
       const std::string name = p.text("particle");

@@ -522,6 +522,10 @@ double dem_plane_tangential_force(const DemModel<D>& model, const DemState<D>& s
 /// in a model that does not rotate; NaN for a bad index.
 template <int D>
 double dem_angular_velocity(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, int component);
+/// Linear momentum Σ m v of the particles along axis `component` (kg·m/s,
+/// per unit thickness in 2D); NaN for a component outside 0 … D−1.
+template <int D>
+double dem_momentum(const DemModel<D>& model, const DemState<D>& state, int component);
 /// 2D: the angle particle i has turned since t = 0 (rad, counter-clockwise); 0
 /// in a model that does not rotate; NaN for a bad index or in 3D.
 template <int D>

@@ -311,6 +311,15 @@ double dem_angular_velocity(const DemModel<D>& m, const DemState<D>& s, std::int
 }
 
 template <int D>
+double dem_momentum(const DemModel<D>& m, const DemState<D>& s, int component) {
+  if (component < 0 || component >= D) return NAN;
+  double p = 0.0;
+  for (std::int32_t i = 0; i < m.n; ++i)
+    p += m.mass[static_cast<std::size_t>(i)] * s.v[static_cast<std::size_t>(component)][static_cast<std::size_t>(i)];
+  return p;
+}
+
+template <int D>
 double dem_rotation(const DemModel<D>& m, const DemState<D>& s, std::int32_t i) {
   if (D != 2 || i < 0 || i >= m.n) return NAN;
   if (!m.features.rotation) return 0.0;
@@ -328,7 +337,8 @@ double dem_rotation(const DemModel<D>& m, const DemState<D>& s, std::int32_t i) 
   template double dem_pair_tangential_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t); \
   template double dem_plane_tangential_force<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, std::int32_t); \
   template double dem_angular_velocity<D>(const DemModel<D>&, const DemState<D>&, std::int32_t, int); \
-  template double dem_rotation<D>(const DemModel<D>&, const DemState<D>&, std::int32_t);
+  template double dem_rotation<D>(const DemModel<D>&, const DemState<D>&, std::int32_t);          \
+  template double dem_momentum<D>(const DemModel<D>&, const DemState<D>&, int);
 XFDEM_INSTANTIATE(1)
 XFDEM_INSTANTIATE(2)
 XFDEM_INSTANTIATE(3)
