@@ -9,7 +9,11 @@ echo "| scene | workers | steps | median | p99 | worst |"
 echo "|---|---:|---:|---:|---:|---:|"
 for scene in scenes/*.json; do
   for threads in 1 2; do
-    report=$("$rt" "$scene" --threads "$threads")
+    # Scenes the harness cannot hold yet (particles against a plate) are listed as such.
+    if ! report=$("$rt" "$scene" --threads "$threads" 2>/dev/null); then
+      printf '| %s | %s | not run (xfdem_rt refuses it) | | | |\n' "$(basename "$scene" .json)" "$threads"
+      continue
+    fi
     field() { awk -v k="$1:" '$1 == k { print $2 }' <<<"$report"; }
     printf '| %s | %s | %s | %s ns | %s ns | %s ns |\n' "$(basename "$scene" .json)" "$threads" \
       "$(field steps)" "$(field step_median_ns)" "$(field step_p99_ns)" "$(field step_max_ns)"

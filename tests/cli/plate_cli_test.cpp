@@ -161,8 +161,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         PlateBadInput{"--set continuum.tip_enrichment.radius=-0.1",
                       "scene key 'continuum.tip_enrichment.radius': must be >= 0"},
-        PlateBadInput{"--set 'dem={\"particles\":[]}'",
-                      "scene key 'dem': particles together with a plate are not supported yet"},
+        PlateBadInput{"--set 'dem={\"particles\":[]}' --set continuum.analysis=static",
+                      "scene key 'continuum.analysis': particles against the plate need \"dynamic\""},
         PlateBadInput{"--set dimension=1 --set gravity=[0]", "scene key 'dimension': a plate scene must have dimension 2"},
         PlateBadInput{"--set continuum.plane=strain --set continuum.material.poisson_ratio=0.5",
                       "scene key 'continuum.material.poisson_ratio': must be < 0.5 in plane strain"},

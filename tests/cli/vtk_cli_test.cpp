@@ -7,6 +7,7 @@
 #include "scene/scene.hpp"
 #include "scene/vtk.hpp"
 #include "support/command.hpp"
+#include "support/csv.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/xfem/level_set.hpp"
 
@@ -29,33 +30,8 @@ fs::path scratch() { return xfdem::testing::scratch("vtk_cli_test"); }
 Result run(const std::string& args) { return xfdem::testing::run_command(XFDEM_CLI, args); }
 std::string tension() { return xfdem::testing::scene_file("plate_tension.json"); }
 
-/// The CSV as a header and rows of numbers.
-struct Csv {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  [[nodiscard]] std::size_t column(const std::string& name) const {
-    for (std::size_t k = 0; k < header.size(); ++k)
-      if (header[k] == name) return k;
-    ADD_FAILURE() << "no column " << name;
-    return 0;
-  }
-};
-
-Csv read_csv(const fs::path& path) {
-  Csv csv;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::stringstream h(line);
-  for (std::string cell; std::getline(h, cell, ',');) csv.header.push_back(cell);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) row.push_back(std::strtod(cell.c_str(), nullptr));
-    csv.rows.push_back(row);
-  }
-  return csv;
-}
+using xfdem::testing::Csv;
+using xfdem::testing::read_csv;
 
 /// The numbers of the DataArray that follows `marker` (e.g. `Name="velocity"`
 /// or `<Points>`) in a VTK XML file.

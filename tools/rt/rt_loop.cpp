@@ -443,6 +443,8 @@ int run(const Options& o) {
   }
   const xfdem::ParallelFor parallel = pool ? pool->parallel_for() : xfdem::ParallelFor{};
 
+  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem))
+    throw SceneError("scene key 'dem': xfdem_rt does not run particles against a plate yet (xfdem run does)");
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     CoupledSystem system(scene, parallel);
     return run_and_report(o, scene, system, pinned.c_str());

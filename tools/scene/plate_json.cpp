@@ -292,7 +292,9 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
   }
   if (quantity == "momentum") {
     const std::string of = p.choice("of", {"total", "continuum", "particles"});
-    probe.kind = of == "particles" ? Probe::Kind::momentum_particles : Probe::Kind::momentum_continuum;
+    probe.kind = of == "particles"   ? Probe::Kind::momentum_particles
+                 : of == "continuum" ? Probe::Kind::momentum_continuum
+                                     : Probe::Kind::momentum_total;
     probe.component = static_cast<int>(p.integer("component", 0, 1));
     return;
   }

@@ -2,10 +2,14 @@
 #include "scene/runner.hpp"
 
 #include <cinttypes>
+#include <cmath>
 #include <string>
 #include <cstdio>
+#include <vector>
 
 #include "xfdem/coupled.hpp"
+#include "xfdem/coupled2d.hpp"
+#include "xfdem/coupling/plate_boundary.hpp"
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 #include "scene/vtk.hpp"
@@ -47,6 +51,62 @@ void append_value(std::string& line, double value) {
   line.append(text, r.ptr);
 }
 
+/// The part of an energy (kinetic, elastic and potential, J) that an `energy`
+/// probe asks for; total: their sum. NaN for other probes.
+template <class Energy>
+double energy_part(const Energy& e, Probe::Kind kind) {
+  switch (kind) {
+    case Probe::Kind::energy_total: return e.kinetic + e.elastic + e.potential;
+    case Probe::Kind::energy_kinetic: return e.kinetic;
+    case Probe::Kind::energy_elastic: return e.elastic;
+    case Probe::Kind::energy_potential: return e.potential;
+    default: return NAN;
+  }
+}
+
+bool is_energy(Probe::Kind kind) {
+  return kind == Probe::Kind::energy_total || kind == Probe::Kind::energy_kinetic ||
+         kind == Probe::Kind::energy_elastic || kind == Probe::Kind::energy_potential;
+}
+
+/// A probe of the particles alone (their positions, velocities, rotation and
+/// contacts with each other and with planes), as every system with particles
+/// reads it; NaN for other kinds.
+template <int D>
+double particle_probe(const DemModel<D>& m, const DemState<D>& s, const Probe& p) {
+  switch (p.kind) {
+    case Probe::Kind::particle_position: return s.x[p.component][p.particle];
+    case Probe::Kind::particle_velocity: return s.v[p.component][p.particle];
+    case Probe::Kind::pair_force: return dem_pair_force(m, s, p.particle, p.other);
+    case Probe::Kind::plane_force: return dem_plane_force(m, s, p.particle, p.other);
+    case Probe::Kind::pair_tangential_force: return dem_pair_tangential_force(m, s, p.particle, p.other);
+    case Probe::Kind::plane_tangential_force: return dem_plane_tangential_force(m, s, p.particle, p.other);
+    case Probe::Kind::particle_angular_velocity: return dem_angular_velocity(m, s, p.particle, p.component);
+    case Probe::Kind::particle_rotation: return dem_rotation(m, s, p.particle);
+    case Probe::Kind::momentum_particles: return dem_momentum(m, s, p.component);
+    default: return NAN;
+  }
+}
+
+/// A probe of the plate's fields (at a point, of a crack) and its momentum,
+/// as the plate alone and the plate with particles read it; NaN for other kinds.
+double plate_probe(const PlateModel& m, const PlateState& s, const Probe& p) {
+  switch (p.kind) {
+    case Probe::Kind::plate_displacement: return plate_displacement(m, s, p.at[0], p.at[1], p.component);
+    case Probe::Kind::plate_velocity: return plate_velocity(m, s, p.at[0], p.at[1], p.component);
+    case Probe::Kind::plate_acceleration: return plate_acceleration(m, s, p.at[0], p.at[1], p.component);
+    case Probe::Kind::plate_stress: return plate_stress(m, s, p.at[0], p.at[1], p.component);
+    case Probe::Kind::plate_crack_opening: return plate_crack_opening(m, s, p.other, p.at[0], p.at[1], p.component);
+    case Probe::Kind::plate_stress_intensity: {
+      double k[2];
+      plate_stress_intensity(m, s, p.other, p.tip_end, p.radius, k);
+      return k[p.component];
+    }
+    case Probe::Kind::momentum_continuum: return plate_momentum(m, s, p.component);
+    default: return NAN;
+  }
+}
+
 /// The particles of a scene without a continuum.
 template <int D>
 class DemSystem {
@@ -61,25 +121,8 @@ class DemSystem {
   StepStatus step() { return dem_step(model_, state_, workspace_); }
   void write_vtk(VtkSeries& vtk) const { vtk.particles(model_, state_); }
   double probe(const Probe& p) const {
-    switch (p.kind) {
-      case Probe::Kind::particle_position: return state_.x[p.component][p.particle];
-      case Probe::Kind::particle_velocity: return state_.v[p.component][p.particle];
-      case Probe::Kind::pair_force: return dem_pair_force(model_, state_, p.particle, p.other);
-      case Probe::Kind::plane_force: return dem_plane_force(model_, state_, p.particle, p.other);
-      case Probe::Kind::pair_tangential_force: return dem_pair_tangential_force(model_, state_, p.particle, p.other);
-      case Probe::Kind::plane_tangential_force: return dem_plane_tangential_force(model_, state_, p.particle, p.other);
-      case Probe::Kind::particle_angular_velocity: return dem_angular_velocity(model_, state_, p.particle, p.component);
-      case Probe::Kind::particle_rotation: return dem_rotation(model_, state_, p.particle);
-      case Probe::Kind::momentum_particles: return dem_momentum(model_, state_, p.component);
-      case Probe::Kind::energy_total: {
-        const DemEnergy e = dem_energy(model_, state_);
-        return e.kinetic + e.elastic + e.potential;
-      }
-      case Probe::Kind::energy_kinetic: return dem_energy(model_, state_).kinetic;
-      case Probe::Kind::energy_elastic: return dem_energy(model_, state_).elastic;
-      case Probe::Kind::energy_potential: return dem_energy(model_, state_).potential;
-      default: return NAN;  // continuum probes are rejected at load for DEM-only scenes
-    }
+    if (is_energy(p.kind)) return energy_part(dem_energy(model_, state_), p.kind);
+    return particle_probe(model_, state_, p);  // continuum probes are rejected at load for DEM-only scenes
   }
 
  private:
@@ -133,28 +176,12 @@ class PlateSystem {
   std::string stages() const { return "continuum only"; }
   double probe(const Probe& p) const {
     switch (p.kind) {
-      case Probe::Kind::plate_displacement: return plate_displacement(model_, state_, p.at[0], p.at[1], p.component);
-      case Probe::Kind::plate_velocity: return plate_velocity(model_, state_, p.at[0], p.at[1], p.component);
-      case Probe::Kind::plate_acceleration: return plate_acceleration(model_, state_, p.at[0], p.at[1], p.component);
-      case Probe::Kind::plate_stress: return plate_stress(model_, state_, p.at[0], p.at[1], p.component);
-      case Probe::Kind::plate_crack_opening:
-        return plate_crack_opening(model_, state_, p.other, p.at[0], p.at[1], p.component);
-      case Probe::Kind::plate_stress_intensity: {
-        double k[2];
-        plate_stress_intensity(model_, state_, p.other, p.tip_end, p.radius, k);
-        return k[p.component];
-      }
-      case Probe::Kind::momentum_continuum: return plate_momentum(model_, state_, p.component);
-      case Probe::Kind::momentum_particles: return 0.0;  // no particles with a plate yet
-      case Probe::Kind::energy_total: {
-        const PlateEnergy e = plate_energy(model_, state_);
-        return e.kinetic + e.elastic + e.potential;
-      }
-      case Probe::Kind::energy_kinetic: return plate_energy(model_, state_).kinetic;
-      case Probe::Kind::energy_elastic: return plate_energy(model_, state_).elastic;
-      case Probe::Kind::energy_potential: return plate_energy(model_, state_).potential;
-      default: return NAN;  // other probes are rejected at load for plate scenes
+      case Probe::Kind::momentum_total: return plate_momentum(model_, state_, p.component);
+      case Probe::Kind::momentum_particles: return 0.0;  // a plate alone has no particles
+      default: break;
     }
+    if (is_energy(p.kind)) return energy_part(plate_energy(model_, state_), p.kind);
+    return plate_probe(model_, state_, p);  // other probes are rejected at load for plate scenes
   }
 
  private:
@@ -184,24 +211,14 @@ class CoupledSystem {
     const CoupledModel& m = world_.model;
     const CoupledState& s = world_.state;
     switch (p.kind) {
-      case Probe::Kind::particle_position: return s.dem.x[0][p.particle];
-      case Probe::Kind::particle_velocity: return s.dem.v[0][p.particle];
-      case Probe::Kind::pair_force: return dem_pair_force(m.dem, s.dem, p.particle, p.other);
-      case Probe::Kind::plane_force: return dem_plane_force(m.dem, s.dem, p.particle, p.other);
       case Probe::Kind::bar_contact_force: return coupled_top_force(m, s, p.particle);
       case Probe::Kind::bar_displacement: return bar_displacement(m.bar, s.bar, p.bar_at);
       case Probe::Kind::bar_velocity: return bar_velocity(m.bar, s.bar, p.bar_at);
       case Probe::Kind::interface_gap: return bar_interface_gap(m.bar, s.bar);
-      case Probe::Kind::energy_total: {
-        const CoupledEnergy& e = energy();
-        return e.kinetic + e.elastic + e.potential;
-      }
-      case Probe::Kind::energy_kinetic: return energy().kinetic;
-      case Probe::Kind::energy_elastic: return energy().elastic;
-      case Probe::Kind::energy_potential: return energy().potential;
-      default: break;  // plate probes are rejected at load for bar scenes
+      default: break;
     }
-    return NAN;
+    if (is_energy(p.kind)) return energy_part(energy(), p.kind);
+    return particle_probe(m.dem, s.dem, p);  // plate probes are rejected at load for bar scenes
   }
 
  private:
@@ -215,6 +232,108 @@ class CoupledSystem {
   }
 
   CoupledWorld world_;
+  mutable CoupledEnergy energy_{};
+  mutable std::int64_t energy_step_ = -1;
+};
+
+/// Particles and a plate together (scenes-2d.md, "Particles against the continuum").
+class Coupled2dSystem {
+ public:
+  Coupled2dSystem(const Scene& scene, ParallelFor parallel) {
+    const BuildResult built = world_.build(coupled2d_desc(scene));
+    if (!built.ok()) throw build_refusal(scene, Built::coupled, built);
+    world_.workspace.dem.parallel = parallel;
+    positions_.assign(2 * world_.model.boundary.vertices.size(), 0.0);
+  }
+  StepStatus step() { return world_.step(); }
+  void time_stages(bool on) { world_.workspace.dem.clock_ns = on ? &platform::monotonic_ns : nullptr; }
+  std::string stages() const {
+    const Coupled2dState& s = world_.state;
+    char text[200];
+    std::snprintf(text, sizeof(text), "exchange passes per step: last %d, peak %d; windows taken at a jump %" PRId64
+                  " (worst residual %.2g); ", s.last_passes, s.peak_passes, s.unsettled_windows, s.worst_unsettled);
+    return text + dem_stages(world_.model.dem, s.dem, world_.workspace.dem.profile);
+  }
+  void write_vtk(VtkSeries& vtk) const {
+    vtk.plate(world_.model.plate, world_.state.plate);
+    vtk.particles(world_.model.dem, world_.state.dem);
+  }
+  double probe(const Probe& p) const {
+    const Coupled2dModel& m = world_.model;
+    const Coupled2dState& s = world_.state;
+    switch (p.kind) {
+      case Probe::Kind::plate_contact_force: return boundary_force(p.particle, false);
+      case Probe::Kind::plate_tangential_contact_force: return boundary_force(p.particle, true);
+      case Probe::Kind::momentum_particles: return dem_momentum(m.dem, s.dem, p.component);
+      case Probe::Kind::momentum_total:
+        return plate_momentum(m.plate, s.plate, p.component) + dem_momentum(m.dem, s.dem, p.component);
+      default: break;
+    }
+    if (is_energy(p.kind)) return energy_part(energy(), p.kind);
+    const double value = particle_probe(m.dem, s.dem, p);
+    return std::isnan(value) ? plate_probe(m.plate, s.plate, p) : value;
+  }
+
+ private:
+  /// The features of the plate's boundary within `reach` of disk i's centre
+  /// where both are now (nearest first); the boundary's place is computed
+  /// once per row.
+  int contacts(std::int32_t i, double reach, PlateBoundaryContact out[kPlateBoundaryMaxContacts]) const {
+    const Coupled2dModel& m = world_.model;
+    const Coupled2dState& s = world_.state;
+    if (positions_step_ != s.step) {
+      plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions_.data());
+      positions_step_ = s.step;
+    }
+    const auto iu = static_cast<std::size_t>(i);
+    const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
+    return plate_boundary_contacts(m.boundary, positions_.data(), centre, reach, out);
+  }
+
+  /// The force the boundary's contacts held on disk i over the last substep
+  /// (coupled2d_boundary_force), split along the normal n (from the plate to
+  /// the disk's centre) of the boundary's feature nearest to the centre now:
+  /// normal F·n, compressive positive; tangential the force on the plate along
+  /// t = (−n_y, n_x) of the normal from the disk to the plate, as for a plane.
+  /// The nearest feature is looked for up to half the boundary's allowance
+  /// beyond the radius, so that a disk that has just left the plate (a held
+  /// force, pulling at the end of a linear contact, and no overlap now) keeps
+  /// its sign; a disk farther away held no force.
+  double boundary_force(std::int32_t i, bool tangential) const {
+    double f[2];
+    coupled2d_boundary_force(world_.model, world_.state, i, f);
+    if (f[0] == 0.0 && f[1] == 0.0) return 0.0;
+    PlateBoundaryContact c[kPlateBoundaryMaxContacts];
+    const Coupled2dModel& m = world_.model;
+    if (contacts(i, m.dem.radius[static_cast<std::size_t>(i)] + 0.5 * m.boundary.allowance, c) == 0) return NAN;
+    const double* n = c[0].normal;
+    return tangential ? f[1] * n[0] - f[0] * n[1] : f[0] * n[0] + f[1] * n[1];
+  }
+
+  /// The energies of the row's state (scenes.md), computed once for the row's
+  /// energy probes: the plate's and the particles' own, and ½ k δ² of every
+  /// present disk–boundary contact in the elastic part.
+  const CoupledEnergy& energy() const {
+    const Coupled2dModel& m = world_.model;
+    const Coupled2dState& s = world_.state;
+    if (energy_step_ != s.step) {
+      const DemEnergy d = dem_energy(m.dem, s.dem);
+      const PlateEnergy e = plate_energy(m.plate, s.plate);
+      double contact = 0;
+      for (std::int32_t i = 0; i < m.dem.n; ++i) {
+        PlateBoundaryContact c[kPlateBoundaryMaxContacts];
+        const int count = contacts(i, m.dem.radius[static_cast<std::size_t>(i)], c);
+        for (int k = 0; k < count; ++k) contact += 0.5 * m.dem.stiffness[i] * c[k].overlap * c[k].overlap;
+      }
+      energy_ = {d.kinetic + e.kinetic, d.elastic + e.elastic + contact, d.potential + e.potential};
+      energy_step_ = s.step;
+    }
+    return energy_;
+  }
+
+  Coupled2dWorld world_;
+  mutable std::vector<double> positions_;
+  mutable std::int64_t positions_step_ = -1;
   mutable CoupledEnergy energy_{};
   mutable std::int64_t energy_step_ = -1;
 };
@@ -328,6 +447,10 @@ RunSummary run_scene(const Scene& scene, std::ostream& csv, int threads, VtkSeri
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     const auto system = build_system<CoupledSystem>(scene);
     return run_system(scene, *system, csv, nullptr);
+  }
+  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem)) {
+    const auto system = build_system<Coupled2dSystem>(scene, parallel);
+    return run_system(scene, *system, csv, vtk);
   }
   if (const auto* d1 = std::get_if<DemDesc<1>>(&scene.dem)) return run_dem<1>(scene, *d1, csv, parallel, vtk);
   if (const auto* d2 = std::get_if<DemDesc<2>>(&scene.dem)) return run_dem<2>(scene, *d2, csv, parallel, vtk);

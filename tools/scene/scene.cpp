@@ -111,7 +111,7 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
     ObjectReader p(*value, path);
     ParticleDesc<D> particle;
     const std::string name = p.has("name") ? p.text("name") : "p" + std::to_string(names.size() + 1);
-    if (name.empty() || name == "bar") p.fail("name", "'" + name + "' is reserved or empty");
+    if (name.empty() || name == "bar" || name == "plate") p.fail("name", "'" + name + "' is reserved or empty");
     if (seen.count(name)) p.fail("name", "'" + name + "' is also the name of " + seen[name]);
     seen[name] = path;
     particle.mass = p.real("mass", kPositive);
@@ -142,6 +142,7 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
       ObjectReader p(*value, path);
       PlaneDesc<D> plane;
       const std::string name = p.has("name") ? p.text("name") : "plane" + std::to_string(plane_names.size());
+      if (name == "bar" || name == "plate") p.fail("name", "'" + name + "' is reserved (it names the continuum)");
       if (seen.count(name)) p.fail("name", "'" + name + "' is also the name of " + seen[name]);
       seen[name] = path;
       plane.point = to_array<D>(p.vector("point", D));
@@ -161,6 +162,17 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
   }
   if (caps) refuse_unused_capacities(*caps, desc, integrator);
   return desc;
+}
+
+/// In a scene with particles and a plate, whether a probe is read as a
+/// particle probe (position, contact_force, angular_velocity, rotation,
+/// energy, a named particle's velocity) rather than by parse_plate_probe.
+bool is_particle_probe(ObjectReader& p, const Scene& scene) {
+  if (std::holds_alternative<std::monostate>(scene.dem) || !p.has("quantity") || !p.raw("quantity").is_string())
+    return false;
+  const std::string quantity = p.raw("quantity").get<std::string>();
+  return quantity == "position" || quantity == "contact_force" || quantity == "angular_velocity" ||
+         quantity == "rotation" || quantity == "energy" || (quantity == "velocity" && p.has("particle"));
 }
 
 }  // namespace
@@ -252,9 +264,12 @@ Scene parse_scene(const Json& document) {
                      document.at("continuum").contains("type") && document.at("continuum").at("type") == "plate";
   if (plate) {
     if (scene.dimension != 2) throw SceneError("scene key 'dimension': a plate scene must have dimension 2");
-    if (top.has("dem"))
-      throw SceneError("scene key 'dem': particles together with a plate are not supported yet (this build runs a "
-                       "plate alone)");
+    if (top.has("dem") && static_plate)
+      throw SceneError("scene key 'continuum.analysis': particles against the plate need \"dynamic\" (got \"static\")");
+    // The coupled 2D step runs its halves without their energy checks.
+    if (top.has("dem") && top.has("energy_check"))
+      throw SceneError("scene key 'energy_check': not used by particles against the plate (the coupled 2D step has no "
+                       "energy check yet)");
     ObjectReader continuum = top.object("continuum");
     scene.plate = parse_plate(continuum, scene.dt, scene.gravity);
     scene.plate->energy_check = scene.energy_check;
@@ -314,7 +329,7 @@ Scene parse_scene(const Json& document) {
       p.fail("name", "'" + probe.name + "' cannot be a CSV column name");
     if (probe_names.count(probe.name)) p.fail("name", "'" + probe.name + "' is also the name of " + probe_names[probe.name]);
     probe_names[probe.name] = path;
-    if (scene.plate) {
+    if (scene.plate && !is_particle_probe(p, scene)) {
       parse_plate_probe(p, *scene.plate, probe);
       p.finish();
       scene.probes.push_back(probe);
@@ -355,8 +370,11 @@ Scene parse_scene(const Json& document) {
       const std::string other = ia >= 0 ? b : a;
       probe.particle = pi;
       if (other == "bar") {
-        if (!scene.has_continuum) p.fail("between", "'bar' named but the scene has no continuum");
+        if (!scene.bar) p.fail("between", "'bar' named but the scene has no bar");
         probe.kind = Probe::Kind::bar_contact_force;
+      } else if (other == "plate") {
+        if (!scene.plate) p.fail("between", "'plate' named but the scene has no plate");
+        probe.kind = Probe::Kind::plate_contact_force;
       } else if (particle_index(other) >= 0) {
         if (particle_index(other) == pi) p.fail("between", "a particle cannot touch itself");
         probe.kind = Probe::Kind::pair_force;
@@ -365,7 +383,7 @@ Scene parse_scene(const Json& document) {
         probe.kind = Probe::Kind::plane_force;
         probe.other = plane_index(other);
       } else {
-        p.fail("between", "'" + other + "' is not a particle, a plane or 'bar'");
+        p.fail("between", "'" + other + "' is not a particle, a plane or '" + (scene.plate ? "plate" : "bar") + "'");
       }
       if (p.choice_or("part", "normal", {"normal", "tangential"}) == "tangential") {
         if (scene.dimension == 1) p.fail("part", "'tangential': rods on a line have no tangential contact force");
@@ -375,6 +393,8 @@ Scene parse_scene(const Json& document) {
           probe.kind = Probe::Kind::pair_tangential_force;
           probe.particle = ia;
           probe.other = ib;
+        } else if (probe.kind == Probe::Kind::plate_contact_force) {
+          probe.kind = Probe::Kind::plate_tangential_contact_force;
         } else {
           probe.kind = Probe::Kind::plane_tangential_force;
         }
@@ -390,12 +410,12 @@ Scene parse_scene(const Json& document) {
       probe.kind = quantity == "position" ? Probe::Kind::particle_position : Probe::Kind::particle_velocity;
       probe.component = static_cast<int>(p.integer_or("component", 0, 0, scene.dimension - 1));
     } else if (p.has("bar_at")) {
-      if (!scene.has_continuum) p.fail("bar_at", "the scene has no continuum");
+      if (!scene.bar) p.fail("bar_at", "the scene has no bar");
       if (quantity == "position") p.fail("quantity", "the bar has displacement and velocity, not position");
       probe.bar_at = p.real("bar_at", Range{0.0, scene.bar->length, false, false});
       probe.kind = quantity == "velocity" ? Probe::Kind::bar_velocity : Probe::Kind::bar_displacement;
     } else {
-      p.fail("quantity", "'" + quantity + "' needs \"particle\" or \"bar_at\"");
+      p.fail("quantity", "'" + quantity + "' needs \"particle\"" + (scene.plate ? "" : " or \"bar_at\""));
     }
     p.finish();
     scene.probes.push_back(probe);
@@ -405,6 +425,15 @@ Scene parse_scene(const Json& document) {
   if (std::holds_alternative<std::monostate>(scene.dem) && !scene.has_continuum)
     throw SceneError("scene: has neither a 'dem' nor a 'continuum' block; nothing to simulate");
   return scene;
+}
+
+Coupled2dDesc coupled2d_desc(const Scene& scene) {
+  Coupled2dDesc desc;
+  desc.dem = std::get<DemDesc<2>>(scene.dem);
+  desc.plate = *scene.plate;
+  desc.dem_substeps = scene.dem_substeps;
+  desc.reject_unstable_coupling = desc.dem.reject_unstable_dt;
+  return desc;
 }
 
 CoupledDesc coupled_desc(const Scene& scene) {
@@ -467,13 +496,18 @@ SceneError build_refusal(const Scene& scene, Built model, const BuildResult& bui
   std::string block = model == Built::dem ? "dem" : "continuum";
   bool substep = false;
   if (model == Built::coupled) {
-    // "dem.…" and "bar.…" name the half; "time.dt: …" and "dem_substeps: …" the coupling's own keys.
+    // "dem.…", "bar.…" and "continuum.…" (a plate) name the half; "time.dt: …" and "dem_substeps: …" the
+    // coupling's own keys.
     if (message.rfind("dem.", 0) == 0) {
       block = "dem";
       substep = true;
       message = message.substr(4);
     } else if (message.rfind("bar.", 0) == 0) {
       message = message.substr(4);
+    } else if (message.rfind("continuum.", 0) == 0) {
+      message = message.substr(10);
+    } else if (message.rfind("continuum: ", 0) == 0) {
+      message = message.substr(11);  // the block itself
     } else {
       block = "time";
     }

@@ -10,6 +10,7 @@
 #include "scene/json_reader.hpp"
 #include "xfdem/bar.hpp"
 #include "xfdem/coupled.hpp"
+#include "xfdem/coupled2d.hpp"
 #include "xfdem/dem.hpp"
 #include "xfdem/plate.hpp"
 
@@ -40,11 +41,15 @@ struct Probe {
     plate_stress_intensity,  ///< other: the crack's index, tip_end, radius; component 0 K_I, 1 K_II
     momentum_continuum,
     momentum_particles,
+    momentum_total,
     // Rotating particles (scenes-2d.md, "Particles: rotation and friction").
     particle_angular_velocity,
     particle_rotation,
     pair_tangential_force,
     plane_tangential_force,
+    // A disk against the plate (scenes-2d.md, "Particles against the continuum").
+    plate_contact_force,
+    plate_tangential_contact_force,
   };
   std::string name;
   Kind kind = Kind::energy_total;
@@ -73,7 +78,7 @@ struct Scene {
   bool has_continuum = false;
   /// The continuum (a bar: 1D only).
   std::optional<BarDesc> bar;
-  /// The 2D continuum (a plate alone: dimension 2, no particles yet).
+  /// The 2D continuum (dimension 2; alone, or with particles: coupled2d_desc()).
   std::optional<PlateDesc> plate;
   std::vector<Probe> probes;
   /// The steppers' energy balance check (key `energy_check`, optional).
@@ -84,6 +89,9 @@ struct Scene {
 /// Its memory budget, as the particles' own (DemDesc::max_memory_bytes), is
 /// this machine's physical memory.
 CoupledDesc coupled_desc(const Scene& scene);
+
+/// The coupled 2D stepper's description of a scene with particles and a plate.
+Coupled2dDesc coupled2d_desc(const Scene& scene);
 
 /// Which of a scene's models a build result came from.
 enum class Built { dem, continuum, coupled };

@@ -35,6 +35,9 @@ struct SceneWorld::Impl {
 
 SceneWorld::SceneWorld(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   auto& world = impl_->world;
+  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem))
+    throw SceneError("scene key 'dem': snapshots and replay of particles against a plate are not supported yet "
+                     "(xfdem run runs them)");
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     auto& w = world.emplace<CoupledWorld>();
     const BuildResult built = w.build(coupled_desc(scene));
