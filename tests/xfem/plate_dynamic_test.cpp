@@ -14,9 +14,11 @@
 #include "xfdem/plate.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/state_io.hpp"
+#include "xfem/plate_fields.hpp"
 #include "xfem/reference.hpp"
 
 using namespace xfdem;
+using test::set_field;
 
 namespace {
 
@@ -33,22 +35,6 @@ PlateDesc small_plate() {
   d.thickness = 1.0;
   d.dt = 1e-5;
   return d;
-}
-
-/// Sets every free nodal component from f(x, y, c).
-template <class F>
-void set_field(const PlateModel& m, std::vector<double>& field, F&& f) {
-  const PlateDesc& d = m.desc;
-  for (int j = 0; j <= d.cells[1]; ++j)
-    for (int i = 0; i <= d.cells[0]; ++i) {
-      const int n = j * (d.cells[0] + 1) + i;
-      const double x = d.min[0] + (d.max[0] - d.min[0]) * i / d.cells[0];
-      const double y = d.min[1] + (d.max[1] - d.min[1]) * j / d.cells[1];
-      for (int c = 0; c < 2; ++c) {
-        const int dof = m.node_dof[static_cast<std::size_t>(2 * n + c)];
-        if (dof >= 0) field[static_cast<std::size_t>(dof)] = f(x, y, c);
-      }
-    }
 }
 
 }  // namespace
@@ -316,3 +302,4 @@ TEST(PlateDynamic, SnapshotRestoresAndReplaysBitForBit) {
   ASSERT_TRUE(build_plate(other, m2, st2, ws2).ok());
   EXPECT_EQ(restore_snapshot(st2, buffer, model_fingerprint(m2)).status, SnapshotStatus::other_model);
 }
+
