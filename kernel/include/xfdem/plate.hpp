@@ -5,8 +5,8 @@
 // docs/xfem2d.md gives the formulation. Discontinuities (PlateDiscontinuity)
 // are given by geometry that ignores the mesh: cracks that cut through the
 // whole plate (shifted-Heaviside enrichment; faces free, or tied by a
-// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment) and voids (no
-// material). Crack tips are not here yet.
+// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment), voids (no
+// material), and crack tips (branch enrichment).
 //
 // Model / state / workspace split as the bar's: build_plate() validates a
 // PlateDesc and is the only call that allocates; plate_step() advances the
