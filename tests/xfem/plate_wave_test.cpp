@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "xfdem/plate.hpp"
+#include "xfdem/platform/alloc_guard.hpp"
 #include "xfem/plate_fields.hpp"
 
 using namespace xfdem;
@@ -41,6 +42,7 @@ struct WaveResult {
   double balance = 0.0;        // largest |Ê − Ê0 − W| over the run, J
   double scale = 0.0;          // its scale: Ê0, J
   int absorb_blocks = 0;       // blocks of the dashpots on enrichment unknowns
+  std::size_t allocations = 0;  // made by the steps
 };
 
 constexpr double kLength = 8.0, kHeight = 1.0;
@@ -120,10 +122,12 @@ WaveResult run_wave(const WaveCase& w) {
   const double t_end = 10.0 / c;
   const int steps = static_cast<int>(std::ceil(t_end / d.dt));
   r.scale = plate_algorithmic_energy(m, st);
+  platform::AllocationCounter counter;
   for (int step = 1; step <= steps; ++step) {
     EXPECT_EQ(plate_step(m, st, ws), StepStatus::ok);
     r.balance = std::max(r.balance, std::fabs(plate_algorithmic_energy(m, st) - st.energy.reference - st.energy.work));
   }
+  r.allocations = counter.allocations();
   r.fraction = total() / e0;
   r.amplitude = amplitude;
   for (int i = 0; i <= 40; ++i)
@@ -186,6 +190,7 @@ TEST(PlateWave, AbsorbingEdgeCutByACrackOrAnInclusionReflectsAsTheUncutEdge) {
                 standard_only.fraction, standard_only.fraction / uncut.fraction, diff, cut.amplitude,
                 diff / (cut.amplitude * kEps), cut.absorb_blocks, cut.balance, cut.scale);
     EXPECT_GT(cut.absorb_blocks, 0);
+    EXPECT_EQ(cut.allocations, 0u);  // the blocks' product and work use the workspace sized at build
     EXPECT_LE(diff, 1024 * kEps * cut.amplitude);
     EXPECT_LE(std::fabs(cut.fraction - uncut.fraction), 1e-6 * uncut.fraction);
     EXPECT_GT(standard_only.fraction, 1.02 * uncut.fraction);  // 6.9x, 4.4x, 1.05x (printed)
