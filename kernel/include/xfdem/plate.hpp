@@ -5,8 +5,8 @@
 // docs/xfem2d.md gives the formulation. Discontinuities (PlateDiscontinuity)
 // are given by geometry that ignores the mesh: cracks that cut through the
 // whole plate (shifted-Heaviside enrichment; faces free, or tied by a
-// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment) and voids (no
-// material). Crack tips are not here yet.
+// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment), voids (no
+// material), and crack tips (branch enrichment).
 //
 // Model / state / workspace split as the bar's: build_plate() validates a
 // PlateDesc and is the only call that allocates; plate_step() advances the
@@ -38,7 +38,9 @@ enum class PlateLoadShape : std::uint8_t { none, step, half_sine };
 /// of the edge (corners included). `absorbing` puts Lysmer dashpots on the edge's
 /// free components: ρ c_p on the normal one, ρ c_s on the tangential one, per
 /// unit area of the edge, lumped to its nodes (each gets its share of the
-/// edge's length times the thickness).
+/// edge's length times the thickness); where a discontinuity reaches the
+/// edge, with the material of each part and on the enrichment unknowns too
+/// (docs/xfem2d.md, "Absorbing edges").
 struct PlateSupport {
   PlateEdge edge = PlateEdge::left;
   bool fix[2] = {false, false};  ///< x, y
@@ -131,6 +133,10 @@ struct PlateDesc {
   /// nodes of the cell holding each crack tip with the four branch functions
   /// (topological); r > 0 also every node within r of a tip (geometric).
   double tip_radius = 0.0;
+  /// Absorbing edges act on the enrichment unknowns of a discontinuity that
+  /// reaches them too (false: on the standard unknowns only, as before; for
+  /// comparison only, no scene key).
+  bool absorb_enrichment = true;
 };
 
 /// Everything build_plate() derives from a PlateDesc. Immutable after build.
@@ -153,6 +159,14 @@ struct PlateModel {
   /// Lumped dashpots of absorbing edges: damper_coeff[d] (N·s/m) on unknown damper_dof[d].
   std::vector<int> damper_dof;
   std::vector<double> damper_coeff;
+  /// Where an enrichment reaches an absorbing edge, the dashpots' products
+  /// that involve an enrichment function, kept consistent: block b couples
+  /// unknowns absorb_dof[absorb_start[b] … absorb_start[b + 1]) by the
+  /// row-major symmetric matrix at absorb_matrix[absorb_matrix_start[b]]
+  /// (N·s/m; one block per edge segment and component; the products of two
+  /// standard functions are 0 in it: those are lumped in damper_coeff).
+  std::vector<int> absorb_start, absorb_dof, absorb_matrix_start;
+  std::vector<double> absorb_matrix;
   /// −K_fh g: what the held displacements push on the unknowns (constant).
   std::vector<double> held_force;
   xfem::SymmetricBand mass;       ///< M on the unknowns
@@ -277,6 +291,7 @@ struct PlateWorkspace {
   std::vector<double> shape_start, shape_end;       ///< each load's shape at t_n and t_{n+1}
   std::vector<double> load_u_start;                 ///< u at each load entry's unknown, at t_n
   std::vector<double> damper_u_start, damper_v_start;
+  std::vector<double> absorb_u_start, absorb_v_start;  ///< u, v at absorb_dof, at t_n
   /// Σ h[(1 − γ) 1ᵀMa_n + γ 1ᵀMa_{n+1}] of the last step (free unknowns).
   double last_external_impulse = 0.0;
   /// Unilateral faces: the active set being tried, the one `factor` holds,

@@ -510,6 +510,7 @@ std::uint64_t model_fingerprint(const PlateModel& model) noexcept {
                        (static_cast<std::uint64_t>(l.shape) << 8));
     for (double v : {l.at[0], l.at[1], l.value[0], l.value[1], l.duration}) h = mix_double(h, v);
   }
+  if (!d.absorb_enrichment) h = mix_u64(h, 0xab5u);  // the default leaves earlier fingerprints unchanged
   for (const PlateDiscontinuity& q : d.discontinuities) {  // none: the hash of an uncut plate is unchanged
     h = mix_u64(h, static_cast<std::uint64_t>(q.kind) | (static_cast<std::uint64_t>(q.shape) << 4) |
                        (static_cast<std::uint64_t>(q.faces) << 8) | (q.enrich ? 1u << 12 : 0u));

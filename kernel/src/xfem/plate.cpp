@@ -673,6 +673,61 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
   }
 }
 
+/// The cell of domain edge `edge` holding its e-th segment (along increasing
+/// x or y), and the segment as a side of that cell: its sub-triangle and its
+/// two corners (local nodes `from`, `to`, along increasing coordinate).
+struct EdgeSegment {
+  int ci = 0, cj = 0, tri = 0, from = 0, to = 0;
+};
+EdgeSegment edge_segment(const PlateDesc& d, PlateEdge edge, int e) {
+  const int nx = d.cells[0], ny = d.cells[1];
+  const bool vertical = edge == PlateEdge::left || edge == PlateEdge::right;
+  EdgeSegment g;
+  g.ci = vertical ? (edge == PlateEdge::left ? 0 : nx - 1) : e;
+  g.cj = vertical ? e : (edge == PlateEdge::bottom ? 0 : ny - 1);
+  g.tri = edge == PlateEdge::bottom ? 0 : edge == PlateEdge::right ? 1 : edge == PlateEdge::top ? 2 : 3;
+  g.from = edge == PlateEdge::bottom ? 0 : edge == PlateEdge::right ? 1 : edge == PlateEdge::top ? 3 : 0;
+  g.to = edge == PlateEdge::bottom ? 1 : edge == PlateEdge::right ? 2 : edge == PlateEdge::top ? 2 : 3;
+  return g;
+}
+
+/// Calls f(xi, eta, side, material, length) at the quadrature points of a
+/// cell's side on the domain's edge (v: the cell's view, g: the side): the
+/// side split where the cutting level set crosses it, each piece on its side
+/// by membership (its end off the zero), 3-point Gauss on each (exact to
+/// degree 5: products of two of the cut cell's functions along it), the
+/// material's part only; length is the point's weight in m² (× thickness).
+template <class F>
+void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegment& g, double h, F&& f) {
+  const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
+  const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+  double breaks[3] = {0.0, 1.0, 1.0};
+  int pieces = 1;
+  if (v.cut >= 0) {
+    const double pa = v.phi[g.from], pb = v.phi[g.to];
+    if ((pa < 0.0 && pb > 0.0) || (pa > 0.0 && pb < 0.0)) {
+      breaks[1] = pa / (pa - pb);
+      pieces = 2;
+    }
+  }
+  for (int pc = 0; pc < pieces; ++pc) {
+    const double s0 = breaks[pc], s1 = breaks[pc + 1];
+    int side = 1;
+    if (v.cut >= 0) {
+      const double pa = v.phi[g.from], pb = v.phi[g.to];
+      side = pieces == 2 ? xfem::side_of(pc == 0 ? pa : pb) : (pa < 0.0 || pb < 0.0 ? -1 : 1);
+    }
+    const int material = material_of(m, v, side);
+    if (material < 0) continue;
+    for (int qp = 0; qp < 3; ++qp) {
+      const double sp = s0 + g3[qp] * (s1 - s0);
+      const double xi = kXi[g.from] + sp * (kXi[g.to] - kXi[g.from]);
+      const double eta = kEta[g.from] + sp * (kEta[g.to] - kEta[g.from]);
+      f(xi, eta, side, material, w3[qp] * (s1 - s0) * h * m.desc.thickness);
+    }
+  }
+}
+
 }  // namespace
 
 // ---- the one operation the integrator needs ---------------------------------
@@ -738,6 +793,21 @@ inline void add_face_penalty(xfem::SymmetricBand& a, const PlateModel::FacePoint
   }
 }
 
+/// y −= C x for the consistent blocks of the dashpots (PlateModel::absorb_*).
+inline void subtract_absorb_product(const PlateModel& m, const double* x, double* y) {
+  const std::size_t blocks = m.absorb_start.empty() ? 0 : m.absorb_start.size() - 1;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const int* dof = m.absorb_dof.data() + m.absorb_start[b];
+    const int n = m.absorb_start[b + 1] - m.absorb_start[b];
+    const double* c = m.absorb_matrix.data() + m.absorb_matrix_start[b];
+    for (int r = 0; r < n; ++r) {
+      double s = 0.0;
+      for (int q = 0; q < n; ++q) s += c[r * n + q] * x[dof[q]];
+      y[dof[r]] -= s;
+    }
+  }
+}
+
 class PlateOperator {
  public:
   PlateOperator(const PlateModel& model, PlateWorkspace& workspace) : m_(model), ws_(workspace) {}
@@ -765,6 +835,7 @@ class PlateOperator {
       for (int i = 0; i < n; ++i) base[i] += ws_.external_force[static_cast<std::size_t>(i)];
     plate_subtract_stiffness_product(m_, x, base);
     for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
+    subtract_absorb_product(m_, v, base);
     if (m_.unilateral_points == 0) {
       (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
       return StepStatus::ok;
@@ -1516,18 +1587,84 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   }
 
   // ---- dashpots of absorbing edges --------------------------------------------
+  // Lysmer: traction −ρc_p v_n − ρc_s v_t on the edge. On the standard unknowns
+  // lumped (each node ∫ρc N_a over its segments: half of each plain segment);
+  // a segment whose cell is cut, carries enrichment or another material is
+  // integrated along its material part (for_each_edge_point) with that
+  // material's ρc, and every product that involves an enrichment function
+  // is kept consistent: a block of C per segment and component
+  // (PlateModel::absorb_*), so that the enrichment of a crack or inclusion
+  // reaching the edge is absorbed too.
   {
     std::vector<double> c_dof(nds, 0.0);
+    model.absorb_start.assign(1, 0);
+    model.absorb_matrix_start.assign(1, 0);
     for (const PlateSupport& sp : d.supports) {
       if (!sp.absorbing) continue;
       const bool vertical = sp.edge == PlateEdge::left || sp.edge == PlateEdge::right;
       const int normal = vertical ? 0 : 1;
       const int count = vertical ? ny : nx;
       const double h = vertical ? hy : hx;
+      std::vector<char> plain(static_cast<std::size_t>(count), 1);
+      for (int e2 = 0; e2 < count && ndisc > 0; ++e2) {
+        const EdgeSegment g = edge_segment(d, sp.edge, e2);
+        make_view(model, g.ci, g.cj, view);
+        if (view.plain) continue;
+        plain[static_cast<std::size_t>(e2)] = 0;
+        // Points of the segment: every function there, the material's ρc per component.
+        constexpr int kMaxEdgePoints = 6;
+        double fn[kMaxEdgePoints][kMaxCellFunctions];
+        double rho_c[kMaxEdgePoints][2];
+        int points = 0;
+        for_each_edge_point(model, view, g, h, [&](double xi, double eta, int side, int material, double length) {
+          BasisAt basis;
+          evaluate(model, view, xi, eta, g.tri, side, basis);
+          const std::array<double, 9>& dd = model.material_elasticity[static_cast<std::size_t>(material)];
+          const double rho = model.material_density[static_cast<std::size_t>(material)];
+          const double dn = dd[static_cast<std::size_t>(normal == 0 ? 0 : 4)];
+          for (int c = 0; c < 2; ++c)
+            rho_c[points][c] = length * std::sqrt(rho * (c == normal ? dn : dd[8]));
+          for (int f = 0; f < view.count; ++f) fn[points][f] = basis.n[f];
+          ++points;
+        });
+        for (int c = 0; c < 2; ++c) {
+          int dofs[kMaxCellFunctions], funcs[kMaxCellFunctions], used = 0;
+          bool enriched = false;
+          for (int f = 0; f < view.count; ++f) {
+            if (view.dof[f][c] < 0) continue;
+            bool nonzero = false;
+            for (int q = 0; q < points; ++q) nonzero = nonzero || fn[q][f] != 0.0;
+            if (!nonzero) continue;
+            if (f < 4) {  // the standard functions come first (make_view): lumped
+              double lumped = 0.0;
+              for (int q = 0; q < points; ++q) lumped += rho_c[q][c] * fn[q][f];
+              c_dof[static_cast<std::size_t>(view.dof[f][c])] += lumped;
+            } else {
+              enriched = true;
+            }
+            dofs[used] = view.dof[f][c], funcs[used++] = f;
+          }
+          if (!enriched || !d.absorb_enrichment) continue;
+          for (int r = 0; r < used; ++r) model.absorb_dof.push_back(dofs[r]);
+          for (int r = 0; r < used; ++r)
+            for (int q2 = 0; q2 < used; ++q2) {
+              double sum = 0.0;
+              if (funcs[r] >= 4 || funcs[q2] >= 4)
+                for (int q = 0; q < points; ++q) sum += rho_c[q][c] * fn[q][funcs[r]] * fn[q][funcs[q2]];
+              model.absorb_matrix.push_back(sum);
+            }
+          model.absorb_start.push_back(static_cast<int>(model.absorb_dof.size()));
+          model.absorb_matrix_start.push_back(static_cast<int>(model.absorb_matrix.size()));
+        }
+      }
       int k = 0;
       edge_nodes(sp.edge, [&](int n, double) {
-        const double share = (k == 0 || k == count ? 0.5 : 1.0) * h * d.thickness;
+        // Half of each plain segment the node ends (k − 1 below it, k above).
+        const double share =
+            ((k > 0 && plain[static_cast<std::size_t>(k - 1)] ? 0.5 : 0.0) + (k < count && plain[static_cast<std::size_t>(k)] ? 0.5 : 0.0)) *
+            h * d.thickness;
         ++k;
+        if (share == 0.0) return;
         for (int c = 0; c < 2; ++c) {
           const int dof = model.node_dof[static_cast<std::size_t>(2 * n + c)];
           if (dof < 0) continue;
@@ -1594,49 +1731,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     for (std::size_t l = 0; l < d.loads.size(); ++l) {
       const PlateLoad& ld = d.loads[l];
       if (ld.kind == PlateLoad::Kind::edge_traction && ndisc > 0) {
-        // Along each cell edge of the domain's edge, split where the cutting
-        // level set crosses it; each piece on its side (by its end off the
-        // zero), 3-point Gauss, the material's part only.
-        const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
-        const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+        // Along each cell edge of the domain's edge (for_each_edge_point).
         const bool vertical = ld.edge == PlateEdge::left || ld.edge == PlateEdge::right;
         const int count = vertical ? ny : nx;
         const double h = vertical ? hy : hx;
-        // Parent edge: the fixed coordinate, the node pair (from, to) along increasing coordinate, its sub-triangle.
-        const int tri = ld.edge == PlateEdge::bottom ? 0 : ld.edge == PlateEdge::right ? 1 : ld.edge == PlateEdge::top ? 2 : 3;
-        const int from = ld.edge == PlateEdge::bottom ? 0 : ld.edge == PlateEdge::right ? 1 : ld.edge == PlateEdge::top ? 3 : 0;
-        const int to = ld.edge == PlateEdge::bottom ? 1 : ld.edge == PlateEdge::right ? 2 : ld.edge == PlateEdge::top ? 2 : 3;
         for (int e2 = 0; e2 < count; ++e2) {
-          const int ci = vertical ? (ld.edge == PlateEdge::left ? 0 : nx - 1) : e2;
-          const int cj = vertical ? e2 : (ld.edge == PlateEdge::bottom ? 0 : ny - 1);
-          make_view(model, ci, cj, view);
-          double breaks[3] = {0.0, 1.0, 1.0};
-          int pieces = 1;
-          if (view.cut >= 0) {
-            const double pa = view.phi[from], pb = view.phi[to];
-            if ((pa < 0.0 && pb > 0.0) || (pa > 0.0 && pb < 0.0)) {
-              breaks[1] = pa / (pa - pb);
-              pieces = 2;
-            }
-          }
-          for (int pc = 0; pc < pieces; ++pc) {
-            const double s0 = breaks[pc], s1 = breaks[pc + 1];
-            int side = 1;
-            if (view.cut >= 0) {
-              // By membership: the piece's end node off the zero.
-              const double pa = view.phi[from], pb = view.phi[to];
-              side = pieces == 2 ? xfem::side_of(pc == 0 ? pa : pb) : (pa < 0.0 || pb < 0.0 ? -1 : 1);
-            }
-            if (material_of(model, view, side) < 0) continue;
-            for (int qp = 0; qp < 3; ++qp) {
-              const double sp = s0 + g3[qp] * (s1 - s0);
-              const double xi = kXi[from] + sp * (kXi[to] - kXi[from]);
-              const double eta = kEta[from] + sp * (kEta[to] - kEta[from]);
-              const double scale = w3[qp] * (s1 - s0) * h * d.thickness;
-              const double force[2] = {scale * ld.value[0], scale * ld.value[1]};
-              add_basis(view, xi, eta, tri, side, force);
-            }
-          }
+          const EdgeSegment g = edge_segment(d, ld.edge, e2);
+          make_view(model, g.ci, g.cj, view);
+          for_each_edge_point(model, view, g, h, [&](double xi, double eta, int side, int, double length) {
+            const double force[2] = {length * ld.value[0], length * ld.value[1]};
+            add_basis(view, xi, eta, g.tri, side, force);
+          });
         }
       } else if (ld.kind == PlateLoad::Kind::point_force && ndisc > 0) {
         int ci = 0, cj = 0;
@@ -1688,6 +1793,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   workspace.load_u_start.assign(model.load_dof.size(), 0.0);
   workspace.damper_u_start.assign(model.damper_dof.size(), 0.0);
   workspace.damper_v_start.assign(model.damper_dof.size(), 0.0);
+  workspace.absorb_u_start.assign(model.absorb_dof.size(), 0.0);
+  workspace.absorb_v_start.assign(model.absorb_dof.size(), 0.0);
   state.u.assign(nds, 0.0);
   state.v.assign(nds, 0.0);
   state.a.assign(nds, 0.0);
@@ -1760,6 +1867,14 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       for (int j = model.mass.first_column(i); j <= i; ++j) eff.add(i, j, fac0 * model.stiffness.get(i, j));
     for (std::size_t k = 0; k < model.damper_dof.size(); ++k)
       eff.add(model.damper_dof[k], model.damper_dof[k], fac1 * model.damper_coeff[k]);
+    for (std::size_t b = 0; b + 1 < model.absorb_start.size(); ++b) {
+      const int* dof = model.absorb_dof.data() + model.absorb_start[b];
+      const int n = model.absorb_start[b + 1] - model.absorb_start[b];
+      const double* c = model.absorb_matrix.data() + model.absorb_matrix_start[b];
+      for (int r = 0; r < n; ++r)
+        for (int q = 0; q < n; ++q)
+          if (dof[q] <= dof[r] && c[r * n + q] != 0.0) eff.add(dof[r], dof[q], fac1 * c[r * n + q]);
+    }
     if (!model.effective_factor.factor(eff))
       return BuildResult::failure(Code::invalid_argument, "dt: the effective stiffness is not positive definite");
     if (model.unilateral_points > 0) {
@@ -1828,6 +1943,10 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
     ws.damper_u_start[k] = state.u[static_cast<std::size_t>(model.damper_dof[k])];
     ws.damper_v_start[k] = state.v[static_cast<std::size_t>(model.damper_dof[k])];
   }
+  for (std::size_t k = 0; k < model.absorb_dof.size(); ++k) {
+    ws.absorb_u_start[k] = state.u[static_cast<std::size_t>(model.absorb_dof[k])];
+    ws.absorb_v_start[k] = state.v[static_cast<std::size_t>(model.absorb_dof[k])];
+  }
   const detail::PlateOperator op(model, ws);
   double net_force[2];
   StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
@@ -1846,6 +1965,21 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
     const auto dof = static_cast<std::size_t>(model.damper_dof[k]);
     work -= model.damper_coeff[k] * (state.u[dof] - ws.damper_u_start[k]) *
             ((1.0 - g) * ws.damper_v_start[k] + g * state.v[dof]);
+  }
+  for (std::size_t b = 0; b + 1 < model.absorb_start.size(); ++b) {
+    const auto first = static_cast<std::size_t>(model.absorb_start[b]);
+    const int n = model.absorb_start[b + 1] - model.absorb_start[b];
+    const double* c = model.absorb_matrix.data() + model.absorb_matrix_start[b];
+    for (int r = 0; r < n; ++r) {
+      const std::size_t er = first + static_cast<std::size_t>(r);
+      const double du = state.u[static_cast<std::size_t>(model.absorb_dof[er])] - ws.absorb_u_start[er];
+      double cv = 0.0;
+      for (int q = 0; q < n; ++q) {
+        const std::size_t eq = first + static_cast<std::size_t>(q);
+        cv += c[r * n + q] * ((1.0 - g) * ws.absorb_v_start[eq] + g * state.v[static_cast<std::size_t>(model.absorb_dof[eq])]);
+      }
+      work -= du * cv;
+    }
   }
   state.energy.work += work;
   state.step += 1;
