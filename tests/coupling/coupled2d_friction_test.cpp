@@ -331,10 +331,16 @@ TEST(Coupled2dFriction, FreePlateHitBySpinningDisksKeepsMomentumAndLosesEnergy) 
   };
   const double p0[2] = {total_momentum(w.model, w.state, 0), total_momentum(w.model, w.state, 1)};
   const double e0 = energy();
-  double worst = 0, last_free = e0, worst_rise = 0, peak_torque = 0;
+  double worst = 0, last_free = e0, worst_rise = 0, peak_torque = 0, worst_work = 0, work_scale = 0;
   int free_instants = 0;
   for (int step = 0; step < 600; ++step) {
+    const double before[2] = {w.state.work_on_plate, w.state.work_by_particles};
     ASSERT_EQ(w.step(), StepStatus::ok) << "step " << step;
+    // The exchange's work, the rolling couple's included: what the plate
+    // received against what the disks did on the boundary it saw.
+    const double on_plate = w.state.work_on_plate - before[0], by_disks = w.state.work_by_particles - before[1];
+    worst_work = std::max(worst_work, std::fabs(on_plate - by_disks));
+    work_scale += std::fabs(on_plate);
     for (int axis = 0; axis < 2; ++axis)
       worst = std::max(worst, std::fabs(total_momentum(w.model, w.state, axis) - p0[axis]));
     bool touching = false;
@@ -355,13 +361,16 @@ TEST(Coupled2dFriction, FreePlateHitBySpinningDisksKeepsMomentumAndLosesEnergy) 
     }
   }
   std::printf("free plate, 4 spinning frictional disks, 600 steps: momentum drift %.3g of %.3g kg m/s; energy at "
-              "%d contact-free instants: worst rise %.3g J, from %.6f J to %.6f J; peak |torque| %.3g N m\n",
-              worst, scale, free_instants, worst_rise, e0, last_free, peak_torque);
+              "%d contact-free instants: worst rise %.3g J, from %.6f J to %.6f J; peak |torque| %.3g N m; exchange work: "
+              "worst step %.3g J of sum |W| %.3g J\n",
+              worst, scale, free_instants, worst_rise, e0, last_free, peak_torque, worst_work, work_scale);
   EXPECT_GT(peak_torque, 0.0);
   EXPECT_LT(worst, 1e-12 * scale);
   EXPECT_GT(free_instants, 10);
   EXPECT_LT(last_free, e0);
   EXPECT_LE(worst_rise, 1e-12 * e0);
+  EXPECT_GT(work_scale, 0.0);
+  EXPECT_LT(worst_work, 1e-9 * work_scale);  // coupled2d_test's bound: the fixed point's tolerance
 }
 
 TEST(Coupled2dFriction, StepNeverAllocatesAndGivesTheSameBitsOnTwoWorkersAndRunAfterRun) {

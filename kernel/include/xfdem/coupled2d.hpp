@@ -52,7 +52,8 @@
 namespace xfdem {
 
 struct Coupled2dDesc {
-  /// Disks: dt is set to plate.dt / dem_substeps; external_forces is set on.
+  /// Disks: dt is set to plate.dt / dem_substeps; external_forces is set on,
+  /// and external_torques with friction, rolling friction or hertz.
   DemDesc<2> dem;
   PlateDesc plate;  ///< dynamic analysis
   int dem_substeps = 10;

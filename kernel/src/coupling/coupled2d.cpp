@@ -67,7 +67,7 @@ double translation_share(const PlateModel& m, const std::vector<double>& f, int 
 
 /// The rate at which a segment turns over the window (rad/s): its ends'
 /// relative displacement across its reference direction L, L × (Δb − Δa) / |L|²
-/// / dt, the rotation whose work the couple of disk_couple does on the plate.
+/// / dt, the rotation on which spread_couple's couple does its work on the plate.
 double segment_spin(const PlateBoundary& b, const Coupled2dWorkspace& w, int segment, double dt) {
   const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(segment)];
   const PlateBoundaryVertex& va = b.vertices[static_cast<std::size_t>(seg.a)];
