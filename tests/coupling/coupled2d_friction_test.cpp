@@ -24,36 +24,19 @@
 #include <numbers>
 #include <vector>
 
+#include "support/coupled2d_scenes.hpp"
 #include "xfdem/coupled2d.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 
 using namespace xfdem;
+using xfdem::testing::disk;
+using xfdem::testing::plate;
+using xfdem::testing::total_momentum;
 
 namespace {
 
 constexpr double kG = 9.81;
-
-ParticleDesc<2> disk(double mass, double radius, double stiffness, double x, double y, double vx, double vy) {
-  ParticleDesc<2> p;
-  p.mass = mass, p.radius = radius, p.stiffness = stiffness;
-  p.position = {x, y};
-  p.velocity = {vx, vy};
-  return p;
-}
-
-/// A plane-strain plate [0, x] × [0, y] of nx × ny cells, ν = 0.3, ρ = 7800, dt = 1e-4 s.
-PlateDesc plate(double e, double x, double y, int nx, int ny) {
-  PlateDesc p;
-  p.plane = PlateDesc::Plane::strain;
-  p.youngs_modulus = e;
-  p.poisson_ratio = 0.3;
-  p.density = 7800.0;
-  p.min[0] = 0, p.min[1] = 0, p.max[0] = x, p.max[1] = y;
-  p.cells[0] = nx, p.cells[1] = ny;
-  p.dt = 1e-4;
-  return p;
-}
 
 /// A disk (m = 1 kg, r = 0.05 m, k = 1e6 N/m) on the top (y = 0.5 m) of a
 /// nearly rigid plate held at its bottom, of `cells` cells 0.1 m wide, with
@@ -87,13 +70,7 @@ struct Incline {
 /// spinning disks coming at it from its four sides, no gravity, no damping.
 Coupled2dDesc free_plate_hit(double friction, double rolling) {
   Coupled2dDesc d;
-  d.plate = plate(2e9, 2, 1, 8, 4);
-  PlateDiscontinuity crack;
-  crack.name = "c1";
-  crack.kind = PlateDiscontinuity::Kind::crack;
-  crack.shape = PlateDiscontinuity::Shape::polyline;
-  crack.points = {{0.93, -0.2}, {1.11, 1.2}};
-  d.plate.discontinuities.push_back(crack);
+  d.plate = xfdem::testing::cracked_free_plate();
   d.dem.integrator = DemIntegrator::symplectic_euler;
   d.dem.friction = friction;
   d.dem.rolling_friction = rolling;
@@ -108,12 +85,6 @@ Coupled2dDesc free_plate_hit(double friction, double rolling) {
   d.dem.particles.push_back(spinning(disk(3.0, 0.06, 1e6, 0.51, -0.07, -0.9, 1.5), -20.0));  // bottom
   d.dem_substeps = 10;
   return d;
-}
-
-double total_momentum(const Coupled2dModel& m, const Coupled2dState& s, int axis) {
-  double p = plate_momentum(m.plate, s.plate, axis);
-  for (std::int32_t i = 0; i < m.dem.n; ++i) p += m.dem.mass[i] * s.dem.v[axis][i];
-  return p;
 }
 
 }  // namespace
