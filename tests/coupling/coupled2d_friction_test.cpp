@@ -28,6 +28,7 @@
 #include "xfdem/coupled2d.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/platform/worker_pool.hpp"
+#include "xfdem/state_io.hpp"
 
 using namespace xfdem;
 using xfdem::testing::disk;
@@ -416,4 +417,28 @@ TEST(Coupled2dFriction, BadInputIsRefusedNamingTheKey) {
     EXPECT_FALSE(r.ok());
     EXPECT_NE(std::strstr(r.message, "external_torques"), nullptr) << r.message;
   }
+}
+
+// The torque input is a field of the DEM's state (hashes, snapshots) only
+// when on: frictionless coupled scenes keep their layout; frictional ones
+// carry the torques and the springs.
+TEST(Coupled2dFriction, TheTorqueInputAndTheSpringsAreStateOnlyWhenOn) {
+  Coupled2dWorld frictionless, frictional;
+  Coupled2dDesc d = free_plate_hit(0.0, 0.0);
+  ASSERT_TRUE(frictionless.build(d).ok());
+  EXPECT_TRUE(frictionless.state.dem.external_torque[0].empty());
+  EXPECT_TRUE(frictionless.state.springs.chain.empty());
+  d.dem.friction = 0.5;
+  ASSERT_TRUE(frictional.build(d).ok());
+  EXPECT_EQ(frictional.state.dem.external_torque[0].size(), 4u);
+  EXPECT_EQ(frictional.state.springs.chain.size(), 4u * kPlateBoundaryMaxContacts);
+  // The same rotating DEM with and without the input: one field more.
+  DemDesc<2> dem = d.dem;
+  dem.dt = 1e-5;
+  DemWorld<2> with, without;
+  ASSERT_TRUE(without.build(dem).ok());
+  dem.external_torques = true;
+  ASSERT_TRUE(with.build(dem).ok());
+  EXPECT_EQ(field_count(with.state), field_count(without.state) + 1);
+  EXPECT_NE(layout_hash(with.state), layout_hash(without.state));
 }
