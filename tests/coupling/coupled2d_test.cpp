@@ -17,48 +17,24 @@
 
 #include "support/coupled_scenes.hpp"
 #include "xfdem/coupled.hpp"
+#include "support/coupled2d_scenes.hpp"
 #include "xfdem/coupled2d.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/platform/worker_pool.hpp"
 #include "xfem/reference.hpp"
 
 using namespace xfdem;
+using xfdem::testing::disk;
+using xfdem::testing::plate;
+using xfdem::testing::total_momentum;
 
 namespace {
-
-ParticleDesc<2> disk(double mass, double radius, double stiffness, double x, double y, double vx, double vy) {
-  ParticleDesc<2> p;
-  p.mass = mass, p.radius = radius, p.stiffness = stiffness;
-  p.position = {x, y};
-  p.velocity = {vx, vy};
-  return p;
-}
-
-/// A plane-strain plate [0, x] × [0, y] of nx × ny cells, ν = 0.3, ρ = 7800, dt = 1e-4 s.
-PlateDesc plate(double e, double x, double y, int nx, int ny) {
-  PlateDesc p;
-  p.plane = PlateDesc::Plane::strain;
-  p.youngs_modulus = e;
-  p.poisson_ratio = 0.3;
-  p.density = 7800.0;
-  p.min[0] = 0, p.min[1] = 0, p.max[0] = x, p.max[1] = y;
-  p.cells[0] = nx, p.cells[1] = ny;
-  p.dt = 1e-4;
-  return p;
-}
 
 /// A free plate 2 m × 1 m, 8 × 4 cells, cut by a free crack across it, and
 /// four disks coming at it from its four sides (no gravity).
 Coupled2dDesc free_plate_hit() {
   Coupled2dDesc d;
-  d.plate = plate(2e9, 2, 1, 8, 4);
-  PlateDesc& p = d.plate;
-  PlateDiscontinuity crack;
-  crack.name = "c1";
-  crack.kind = PlateDiscontinuity::Kind::crack;
-  crack.shape = PlateDiscontinuity::Shape::polyline;
-  crack.points = {{0.93, -0.2}, {1.11, 1.2}};
-  p.discontinuities.push_back(crack);
+  d.plate = xfdem::testing::cracked_free_plate();
   d.dem.integrator = DemIntegrator::symplectic_euler;
   d.dem.damping_ratio = 0.05;
   d.dem.particles.push_back(disk(2.0, 0.05, 1e6, -0.06, 0.37, 3.0, 0.4));   // left
@@ -67,12 +43,6 @@ Coupled2dDesc free_plate_hit() {
   d.dem.particles.push_back(disk(3.0, 0.06, 1e6, 0.51, -0.07, -0.2, 1.5));  // bottom
   d.dem_substeps = 10;
   return d;
-}
-
-double total_momentum(const Coupled2dModel& m, const Coupled2dState& s, int axis) {
-  double p = plate_momentum(m.plate, s.plate, axis);
-  for (std::int32_t i = 0; i < m.dem.n; ++i) p += m.dem.mass[i] * s.dem.v[axis][i];
-  return p;
 }
 
 }  // namespace

@@ -25,7 +25,21 @@
 //
 // Held forces are exactly the particle integrator's own evaluation for
 // symplectic Euler (forces at the start of the step), which this slice
-// requires; the disks are frictionless (no torque input to the DEM yet).
+// requires.
+//
+// With friction or rolling resistance (or the hertz law) the disks rotate and
+// every disk–boundary contact is the DEM's particle–wall contact
+// (dem_detail::wall_contact, the plane contact's own code): Cundall–Strack
+// spring with its Coulomb cap, sticking dashpot, rolling resistance; hertz
+// with the plate's material as the second body (R* = the disk's radius). The
+// disk is held at the contact's force and torque (DemState::external_torque);
+// the plate receives the opposite force, normal and tangential, at the
+// contact's material point, and the opposite rolling couple as two opposite
+// forces at its segment's ends. Each contact's spring is kept in
+// Coupled2dState::springs by (disk, boundary chain), matched to the contact
+// of that chain whose normal is nearest the stored one: a disk slides across
+// the joints of a chain (a flat surface of many edges, a polygonal void's
+// vertices) with its spring, which the law turns into the new contact plane.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -38,7 +52,8 @@
 namespace xfdem {
 
 struct Coupled2dDesc {
-  /// Disks: dt is set to plate.dt / dem_substeps; external_forces is set on.
+  /// Disks: dt is set to plate.dt / dem_substeps; external_forces is set on,
+  /// and external_torques with friction, rolling friction or hertz.
   DemDesc<2> dem;
   PlateDesc plate;  ///< dynamic analysis
   int dem_substeps = 10;
@@ -61,6 +76,10 @@ struct Coupled2dModel {
   int substeps = 1;
   double dt = 0;
   double coupling_omega = 0;  ///< ω_c of the stiffest disk–boundary contact, rad/s
+  /// Friction, rolling resistance or hertz: the disks rotate, contacts keep springs.
+  bool rotating = false;
+  /// hertz: the plate's (1 − ν²)/E and 2(2 − ν)(1 + ν)/E, the contacts' second body.
+  double plate_inv_e = 0, plate_inv_g = 0;
   bool beyond_stable_step = false;
 };
 
@@ -80,9 +99,21 @@ inline constexpr int kCoupled2dStallPasses = 6;
 inline constexpr int kCoupled2dMaxPasses = 100;
 inline constexpr double kCoupled2dJumpTolerance = 1e-6;
 
+/// The tangential springs of the disk–boundary contacts: kPlateBoundaryMaxContacts
+/// slots per disk (slot i·K + k), as many as a disk can have contacts, so
+/// they never run out. A slot holds the boundary chain of its contact
+/// (PlateBoundarySegment::chain; −1: free), the contact's unit normal when it
+/// was last evaluated, and the spring ξ (m; hertz: the force history, N, as
+/// the DEM keeps it). Rotating disks only; empty otherwise.
+struct Coupled2dSprings {
+  std::vector<std::int32_t> chain;
+  std::vector<double> normal, xi;  ///< 2 per slot
+};
+
 struct Coupled2dState {
   DemState<2> dem;
   PlateState plate;
+  Coupled2dSprings springs;
   /// The force (N per unknown) the plate received over the last step.
   std::vector<double> coupling_force;
   /// Totals since the start: impulse (N·s, x and y) the disks took from the
@@ -107,6 +138,7 @@ struct Coupled2dWorkspace {
   PlateWorkspace plate;
   DemState<2> dem_start;
   PlateState plate_start;
+  Coupled2dSprings springs_start;
   std::vector<double> start_positions, end_positions, positions;  ///< boundary vertices (2 each)
   std::vector<double> impulse;  ///< the pass's impulse to the plate, per unknown
   std::vector<double> residual, previous_residual, best_force;

@@ -162,6 +162,11 @@ struct DemDesc {
   /// Give every particle an external force input (DemState::external_force,
   /// N, set by the host between steps, held over a step). Off: no such term.
   bool external_forces = false;
+  /// Give every particle an external torque input too (DemState::external_torque,
+  /// N·m about z, held over a step like the force): 2D rotating models only
+  /// (friction or rolling_friction > 0, or hertz). Off: no such term, and the
+  /// state has no such field.
+  bool external_torques = false;
   /// Refuse to build when dt exceeds the integrator's stable step for the
   /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
   bool reject_unstable_dt = true;
@@ -222,6 +227,7 @@ struct DemFeatures {
   bool nontensile = false;
   bool planes = false;
   bool external_forces = false;
+  bool external_torques = false;
   /// Friction or rolling resistance: the particles rotate, contacts keep a
   /// tangential history, and the step is the granular one (dem/granular.cpp).
   bool rotation = false;
@@ -315,6 +321,9 @@ struct DemState {
   /// DemDesc::external_forces. A change felt by a multistep history: call
   /// dem_inputs_changed() after setting it.
   std::array<std::vector<double>, D> external_force;
+  /// External torque on each particle (N·m, about z), held like external_force;
+  /// empty unless DemDesc::external_torques, and then no field of the state.
+  std::array<std::vector<double>, spin_components(D)> external_torque;
   /// Multistep history, a ring of 4 slots: hist_v/hist_a[slot][axis][particle].
   /// Slot `history_head` holds f(y_n) = (v_n, a_n); older slots follow.
   /// Verlet, symplectic Euler and RK4 use slot head for the last acceleration.
@@ -550,6 +559,9 @@ void DemState<D>::for_each_array(Visitor&& visit) {
   for (auto& c : pair_xi) visit("pair_xi", c.data(), c.size());
   for (auto& c : plane_xi) visit("plane_xi", c.data(), c.size());
   for (int d = 0; d < D; ++d) visit("external_force", external_force[d].data(), external_force[d].size());
+  // Listed only when on, so that a state without it keeps its layout and hashes.
+  for (auto& c : external_torque)
+    if (!c.empty()) visit("external_torque", c.data(), c.size());
   for (int s = 0; s < 4; ++s)
     for (int d = 0; d < D; ++d) {
       visit("hist_v", hist_v[s][d].data(), hist_v[s][d].size());

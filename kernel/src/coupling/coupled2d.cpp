@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "dem/contact_law.hpp"
+#include "dem/granular.hpp"
 #include "xfdem/coupled.hpp"
 
 namespace xfdem {
@@ -64,6 +65,131 @@ double translation_share(const PlateModel& m, const std::vector<double>& f, int 
   return sum;
 }
 
+/// The rate at which a segment turns over the window (rad/s): its ends'
+/// relative displacement across its reference direction L, L × (Δb − Δa) / |L|²
+/// / dt, the rotation on which spread_couple's couple does its work on the plate.
+double segment_spin(const PlateBoundary& b, const Coupled2dWorkspace& w, int segment, double dt) {
+  const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(segment)];
+  const PlateBoundaryVertex& va = b.vertices[static_cast<std::size_t>(seg.a)];
+  const PlateBoundaryVertex& vb = b.vertices[static_cast<std::size_t>(seg.b)];
+  const double l[2] = {vb.x[0] - va.x[0], vb.x[1] - va.x[1]};
+  double d[2];
+  for (int axis = 0; axis < 2; ++axis) {
+    const auto ka = static_cast<std::size_t>(2 * seg.a + axis), kb = static_cast<std::size_t>(2 * seg.b + axis);
+    d[axis] = (w.end_positions[kb] - w.start_positions[kb]) - (w.end_positions[ka] - w.start_positions[ka]);
+  }
+  return (l[0] * d[1] - l[1] * d[0]) / (l[0] * l[0] + l[1] * l[1]) / dt;
+}
+
+/// Adds a couple C (N·m·s here: an impulse's moment) to the plate as two
+/// opposite forces at the segment's ends, ±C (ẑ × L)/|L|² with L its
+/// reference direction: no net force, moment C for every rigid motion.
+void spread_couple(const PlateModel& plate, const PlateBoundary& b, int segment, double couple, double* f) {
+  const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(segment)];
+  const PlateBoundaryVertex& va = b.vertices[static_cast<std::size_t>(seg.a)];
+  const PlateBoundaryVertex& vb = b.vertices[static_cast<std::size_t>(seg.b)];
+  const double l[2] = {vb.x[0] - va.x[0], vb.x[1] - va.x[1]};
+  const double scale = couple / (l[0] * l[0] + l[1] * l[1]);
+  const double at_b[2] = {-scale * l[1], scale * l[0]}, at_a[2] = {-at_b[0], -at_b[1]};
+  plate_spread_force(plate, vb.at, at_b, f);
+  plate_spread_force(plate, va.at, at_a, f);
+}
+
+/// The boundary's force (x, y; N) and torque (N·m) on disk i at the disks'
+/// state in s.dem, the boundary at `positions` (2 per vertex) moving at the
+/// window's velocities: each contact's plate share of h·F (and of its
+/// rolling couple) is added to w.impulse, the disk's work on the boundary
+/// over h to `work`. Rotating disks: each contact is the DEM's particle–wall
+/// contact with its spring advanced by h, the springs kept in s.springs when
+/// `keep` (false: a stage that only reads them). One evaluation of one disk's
+/// contacts: what a substep (or an integrator's stage) calls for each disk.
+void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w, std::int32_t i,
+                   const double* positions, double h, bool keep, double total[2], double& torque, double& work) {
+  const auto iu = static_cast<std::size_t>(i);
+  const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
+  const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
+  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+  const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[iu], contacts);
+  total[0] = total[1] = 0.0;
+  torque = 0.0;
+  if (!m.rotating) {
+    for (int c = 0; c < count; ++c) {
+      double speed[2];
+      contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
+      const double fn = contact_force(m.dem, i, contacts[c], v, speed);
+      if (fn == 0.0) continue;
+      const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
+      total[0] += on_disk[0], total[1] += on_disk[1];
+      work -= h * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
+      // The plate gets the opposite impulse, at the contact's material point.
+      const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
+      plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, w.impulse.data());
+    }
+    return;
+  }
+  // The disk's springs: a contact takes the stored one of its chain whose
+  // normal is nearest its own (within 60°, the contact finder's separation).
+  constexpr int K = kPlateBoundaryMaxContacts;
+  const std::size_t base = iu * K;
+  bool taken[K] = {};
+  std::int32_t chains[K];
+  double normals[K][2], springs[K][2];
+  const double wi = s.dem.w[0][iu];
+  for (int c = 0; c < count; ++c) {
+    const PlateBoundaryContact& ct = contacts[c];
+    const int chain = m.boundary.segments[static_cast<std::size_t>(ct.segment)].chain;
+    int found = -1;
+    double nearest = 0.5;
+    for (int k = 0; k < K; ++k) {
+      const std::size_t slot = base + static_cast<std::size_t>(k);
+      if (taken[k] || s.springs.chain[slot] != chain) continue;
+      const double cosine = s.springs.normal[2 * slot] * ct.normal[0] + s.springs.normal[2 * slot + 1] * ct.normal[1];
+      if (cosine > nearest) nearest = cosine, found = k;
+    }
+    double xi[2] = {0.0, 0.0};
+    if (found >= 0) {
+      taken[found] = true;
+      const std::size_t slot = base + static_cast<std::size_t>(found);
+      xi[0] = s.springs.xi[2 * slot], xi[1] = s.springs.xi[2 * slot + 1];
+    }
+    dem_detail::WallContact<2> wall{};
+    contact_velocity(m.boundary, w, ct, m.dt, wall.velocity);
+    wall.normal[0] = ct.normal[0], wall.normal[1] = ct.normal[1];
+    wall.speed = wall.velocity[0] * ct.normal[0] + wall.velocity[1] * ct.normal[1];
+    const double spin = segment_spin(m.boundary, w, ct.segment, m.dt);
+    wall.spin = &spin;
+    wall.inv_e = m.plate_inv_e, wall.inv_g = m.plate_inv_g;
+    // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
+    // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
+    // opposite, and the sliding velocity is that of the disk's point at p.
+    wall.arm = m.dem.radius[iu] - ct.overlap;
+    const dem_detail::ContactResult<2> r = dem_detail::wall_contact<2>(m.dem, i, wall, ct.overlap, v, &wi, h, xi);
+    chains[c] = chain;
+    normals[c][0] = ct.normal[0], normals[c][1] = ct.normal[1];
+    springs[c][0] = xi[0], springs[c][1] = xi[1];
+    const double on_disk[2] = {r.fn * r.normal[0] + r.ft[0], r.fn * r.normal[1] + r.ft[1]};
+    total[0] += on_disk[0], total[1] += on_disk[1];
+    torque += r.torque_j[0];
+    work -= h * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
+    const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
+    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, ct), on_plate, w.impulse.data());
+    if (r.torque_i[0] != 0.0) {
+      work += h * r.torque_i[0] * spin;
+      spread_couple(m.plate, m.boundary, ct.segment, h * r.torque_i[0], w.impulse.data());
+    }
+  }
+  if (!keep) return;
+  for (int k = 0; k < K; ++k) {
+    const std::size_t slot = base + static_cast<std::size_t>(k);
+    const bool used = k < count;
+    s.springs.chain[slot] = used ? chains[k] : -1;
+    s.springs.normal[2 * slot] = used ? normals[k][0] : 0.0;
+    s.springs.normal[2 * slot + 1] = used ? normals[k][1] : 0.0;
+    s.springs.xi[2 * slot] = used ? springs[k][0] : 0.0;
+    s.springs.xi[2 * slot + 1] = used ? springs[k][1] : 0.0;
+  }
+}
+
 /// One pass over the window with the plate's force `force`: the plate
 /// stepped from its start, the disks substepped against the boundary moving
 /// between the plate's two places; the impulse the plate should receive is
@@ -73,6 +199,7 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
   StepStatus status = StepStatus::ok;
   s.plate = w.plate_start;
   s.dem = w.dem_start;
+  if (m.rotating) s.springs = w.springs_start;
   status |= plate_start_acceleration(m.plate, s.plate, w.plate);
   status |= without(plate_step(m.plate, s.plate, w.plate), StepStatus::energy_growth);
   plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.end_positions.data());
@@ -86,25 +213,11 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
     boundary_at(w, static_cast<double>(k) / n, w.positions.data());
     for (std::int32_t i = 0; i < m.dem.n; ++i) {
       const auto iu = static_cast<std::size_t>(i);
-      const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
-      const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
-      PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
-      const int count = plate_boundary_contacts(m.boundary, w.positions.data(), centre, m.dem.radius[iu], contacts);
-      double total[2] = {0, 0};
-      for (int c = 0; c < count; ++c) {
-        double speed[2];
-        contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
-        const double fn = contact_force(m.dem, i, contacts[c], v, speed);
-        if (fn == 0.0) continue;
-        const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
-        total[0] += on_disk[0], total[1] += on_disk[1];
-        work -= h * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
-        // The plate gets the opposite impulse, at the contact's material point.
-        const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
-        plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, w.impulse.data());
-      }
+      double total[2], torque;
+      disk_contacts(m, s, w, i, w.positions.data(), h, true, total, torque, work);
       s.dem.external_force[0][iu] = total[0];
       s.dem.external_force[1][iu] = total[1];
+      if (m.rotating) s.dem.external_torque[0][iu] = torque;
       impulse_taken[0] += h * total[0];
       impulse_taken[1] += h * total[1];
     }
@@ -124,20 +237,28 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     return BuildResult::failure(Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)", desc.dem_substeps);
   if (desc.plate.analysis != PlateDesc::Analysis::dynamic)
     return BuildResult::failure(Code::invalid_argument, "continuum.analysis: a coupled scene needs %s", "dynamic");
+  const bool rotating = desc.dem.friction > 0 || desc.dem.rolling_friction > 0 || desc.dem.law == ContactLaw::hertz;
+  // The disk–boundary springs advance once per substep, at its start: other
+  // integrators' stages would need them evaluated per stage, kept at the end.
+  if (rotating && desc.dem.integrator != DemIntegrator::symplectic_euler)
+    return BuildResult::failure(Code::invalid_argument,
+                                "dem.integrator: %s cannot carry friction, rolling friction or the hertz law against "
+                                "the plate: the disk-boundary tangential springs are advanced once per substep at its "
+                                "start, which is symplectic_euler's evaluation",
+                                integrator_name(desc.dem.integrator));
   if (desc.dem.integrator != DemIntegrator::symplectic_euler)
     return BuildResult::failure(Code::invalid_argument,
                                 "dem.integrator: %s is not supported against the plate yet: the boundary's forces are "
                                 "held over a substep, which is the integrator's own evaluation only for "
                                 "symplectic_euler",
                                 integrator_name(desc.dem.integrator));
-  if (desc.dem.friction != 0.0 || desc.dem.rolling_friction != 0.0)
-    return BuildResult::failure(Code::invalid_argument,
-                                "dem.contact.friction: disks against the plate are frictionless in this version (got "
-                                "friction %g)",
-                                desc.dem.friction != 0.0 ? desc.dem.friction : desc.dem.rolling_friction);
   if (desc.dem.law == ContactLaw::hertz)
-    return BuildResult::failure(Code::invalid_argument, "dem.contact.law: %s is not supported against the plate yet",
-                                "hertz");
+    for (const PlateDiscontinuity& q : desc.plate.discontinuities)
+      if (q.kind == PlateDiscontinuity::Kind::inclusion)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "dem.contact.law: hertz against a plate with an inclusion ('%s') is not supported: "
+                                    "the boundary's material is taken as the plate's own",
+                                    q.name.c_str());
   if (!(std::isfinite(desc.boundary_allowance) && desc.boundary_allowance >= 0))
     return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a length >= 0",
                                 desc.boundary_allowance);
@@ -157,22 +278,42 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   DemDesc<2> dem = desc.dem;
   dem.dt = plate.dt / desc.dem_substeps;
   dem.external_forces = true;
+  dem.external_torques = rotating;
   dem.energy_check = kEnergyCheckOff;
   r = build_dem(dem, m.dem, s.dem, w.dem);
   if (!r.ok()) return BuildResult::failure(r.code, "dem.%s", r.message);
   m.substeps = desc.dem_substeps;
   m.dt = plate.dt;
+  m.rotating = rotating;
+  const bool hertz = desc.dem.law == ContactLaw::hertz;
+  if (hertz) {
+    const double e = plate.youngs_modulus, nu = plate.poisson_ratio;
+    m.plate_inv_e = (1.0 - nu * nu) / e;
+    m.plate_inv_g = 2.0 * (2.0 - nu) * (1.0 + nu) / e;
+  }
 
+  // The stiffest contact: normal k (hertz: S_n at the DEM's reference overlap
+  // kHertzReferenceOverlap · R), and with friction the tangential one, whose
+  // disk side also turns (1/m + r²/I).
   double max_radius = 0, worst = 0, lightest = INFINITY;
   for (const double mass : m.plate.node_mass)
     if (mass > 0) lightest = std::min(lightest, mass);
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
-    max_radius = std::max(max_radius, m.dem.radius[static_cast<std::size_t>(i)]);
-    worst = std::max(worst, m.dem.stiffness[static_cast<std::size_t>(i)] *
-                                (1.0 / lightest + m.dem.inv_mass[static_cast<std::size_t>(i)]));
+    const auto iu = static_cast<std::size_t>(i);
+    const double radius = m.dem.radius[iu];
+    max_radius = std::max(max_radius, radius);
+    double kn = m.dem.stiffness[iu], kt = m.dem.tangential_ratio * kn;
+    if (hertz) {
+      const double root = radius * std::sqrt(kHertzReferenceOverlap);
+      kn = 2.0 * root / (m.dem.hertz_inv_e[iu] + m.plate_inv_e);
+      kt = 8.0 * root / (m.dem.hertz_inv_g[iu] + m.plate_inv_g);
+    }
+    worst = std::max(worst, kn * (1.0 / lightest + m.dem.inv_mass[iu]));
+    if (desc.dem.friction > 0)
+      worst = std::max(worst, kt * (1.0 / lightest + m.dem.inv_mass[iu] + radius * radius * m.dem.inv_inertia[iu]));
   }
   m.coupling_omega = std::sqrt(worst);
-  const double factor = dem_stable_step_factor(dem.integrator, dem.damping_ratio);
+  const double factor = m.dem.stable_factor;  // the integrator's, at the law's damping
   m.beyond_stable_step = m.coupling_omega * dem.dt > factor || m.coupling_omega * m.dt > kCoupledMaxOmegaDt;
   if (desc.reject_unstable_coupling && m.coupling_omega * dem.dt > factor)
     return BuildResult::failure(Code::unstable_time_step,
@@ -199,6 +340,13 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   w.residual.assign(dofs, 0.0);
   w.previous_residual.assign(dofs, 0.0);
   w.best_force.assign(dofs, 0.0);
+  if (rotating) {
+    const auto slots = static_cast<std::size_t>(m.dem.n) * kPlateBoundaryMaxContacts;
+    s.springs.chain.assign(slots, -1);
+    s.springs.normal.assign(2 * slots, 0.0);
+    s.springs.xi.assign(2 * slots, 0.0);
+    w.springs_start = s.springs;
+  }
   w.start_positions.assign(coords, 0.0);
   w.end_positions.assign(coords, 0.0);
   w.positions.assign(coords, 0.0);
@@ -212,6 +360,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   if (!m.built) return StepStatus::not_built;
   w.dem_start = s.dem;
   w.plate_start = s.plate;
+  if (m.rotating) w.springs_start = s.springs;
   plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.start_positions.data());
   std::vector<double>& force = w.plate.external_force;
   force = s.coupling_force;  // the first pass: last window's force

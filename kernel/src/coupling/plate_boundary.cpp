@@ -239,6 +239,19 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         }
       }
     }
+  // Chains: from each segment not yet named, back to its chain's first
+  // segment (or round its loop), then forwards naming every one by it.
+  for (std::size_t k = 0; k < out.segments.size(); ++k) {
+    if (out.segments[k].chain >= 0) continue;
+    int head = static_cast<int>(k);
+    for (int before = out.vertices[static_cast<std::size_t>(out.segments[k].a)].prev;
+         before >= 0 && before != static_cast<int>(k);
+         before = out.vertices[static_cast<std::size_t>(out.segments[static_cast<std::size_t>(before)].a)].prev)
+      head = before;
+    for (int seg = head; seg >= 0 && out.segments[static_cast<std::size_t>(seg)].chain < 0;
+         seg = out.vertices[static_cast<std::size_t>(out.segments[static_cast<std::size_t>(seg)].b)].next)
+      out.segments[static_cast<std::size_t>(seg)].chain = head;
+  }
   // Bins: the domain grown by the reach, bins at least a reach wide.
   out.allowance = allowance;
   out.reach = max_radius + allowance;

@@ -322,6 +322,7 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   }
   size_columns<D>(s.x_ref, un);
   if (desc.external_forces) size_columns<D>(s.external_force, un);
+  if (desc.external_torques) size_columns(s.external_torque, un);
   for (std::size_t i = 0; i < un; ++i)
     for (int d = 0; d < D; ++d) {
       s.x[d][i] = desc.particles[i].position[d];
@@ -573,6 +574,11 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                   "it does not locate (use abm4, rk4, verlet or symplectic_euler)",
                                   integrator_name(desc.integrator));
   }
+  if (desc.external_torques && !(D == 2 && rotates(desc)))
+    return BuildResult::failure(Code::invalid_argument,
+                                "external_torques: needs particles that rotate in 2D (friction or rolling_friction > 0, "
+                                "or the hertz law; the energy books count a torque's work on the 2D angle) (D = %d)",
+                                D);
   if (desc.split_from < 0)
     return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
 
@@ -602,6 +608,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   m.features.nontensile = desc.law == ContactLaw::linear_nontensile;
   m.features.planes = !desc.planes.empty();
   m.features.external_forces = desc.external_forces;
+  m.features.external_torques = desc.external_torques;
   m.features.broad_phase = sizes.broad_phase;
   m.features.rotation = rotates(desc);
   m.friction = desc.friction;

@@ -26,14 +26,17 @@ double plane_work_sum(const DemState<D>& s) {
   return sum;
 }
 
-/// Σ F·x over the particles (0 without external forces): over a step, with F
-/// held, its difference is the forces' work.
+/// Σ F·x over the particles, and Σ τ θ with external torques (2D): over a
+/// step, with F and τ held, its difference is their work (0 without either).
 template <int D>
 double external_force_moment(const DemModel<D>& m, const DemState<D>& s) {
-  if (!m.features.external_forces) return 0.0;
   double sum = 0;
-  for (int d = 0; d < D; ++d)
-    for (std::int32_t i = 0; i < m.n; ++i) sum += s.external_force[d][i] * s.x[d][i];
+  if (m.features.external_forces)
+    for (int d = 0; d < D; ++d)
+      for (std::int32_t i = 0; i < m.n; ++i) sum += s.external_force[d][i] * s.x[d][i];
+  if constexpr (D == 2)
+    if (m.features.external_torques)
+      for (std::int32_t i = 0; i < m.n; ++i) sum += s.external_torque[0][i] * s.angle[0][i];
   return sum;
 }
 

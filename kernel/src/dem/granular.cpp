@@ -179,31 +179,42 @@ template <int D, class Kind>
   return r;
 }
 
+/// A particle against a wall, the contact's first body: its unit normal n
+/// (towards the particle), the speed of its surface along n, the velocity of
+/// its contact point, its spin (rad/s, S components) and its hertz
+/// compliances (0: rigid); the particle's arm to the contact point (its
+/// radius, as between particles), which the contact point's velocity and the
+/// torque both use, so that the tangential force's power on the particle is
+/// F·v_t, the spring's. torque_j is the particle's torque; torque_i
+/// the couple the wall receives (rolling resistance; the tangential force
+/// acts on the wall at the contact point). A plane is a wall of velocity
+/// speed · n that does not turn (plane_contact_as).
 template <int D, class Kind>
-[[gnu::always_inline]] inline ContactResult<D> plane_contact_as(const LawView<D>& m, std::int32_t i, std::size_t p,
-                                                                double overlap, double speed, const double (&vi)[D],
-                                                                const double* wi, double h, double (&xi)[D]) {
+[[gnu::always_inline]] inline ContactResult<D> wall_contact_as(const LawView<D>& m, std::int32_t i,
+                                                               const double (&normal)[D], double speed,
+                                                               const double (&wall_velocity)[D], const double* wall_spin,
+                                                               double inv_e, double inv_g, double arm, double overlap,
+                                                               const double (&vi)[D], const double* wi, double h,
+                                                               double (&xi)[D]) {
   constexpr int S = spin_components(D);
   constexpr bool hertz = Kind::law == ContactLaw::hertz;
   ContactResult<D> r{};
-  // The plane is the first body: n is its normal (towards the particle), and
-  // it moves at `speed` along it without turning.
-  for (int d = 0; d < D; ++d) r.normal[d] = m.plane_normal[p][d];
+  for (int d = 0; d < D; ++d) r.normal[d] = normal[d];
   double rate = speed;
   for (int d = 0; d < D; ++d) rate -= vi[d] * r.normal[d];
   HertzContact hc{};
   if constexpr (hertz) {
-    hc = hertz_contact(1.0 / (m.hertz_inv_e[i] + m.plane_inv_e[p]), 1.0 / (m.hertz_inv_g[i] + m.plane_inv_g[p]),
-                       m.radius[i], m.mass[i], m.hertz_damping, overlap, rate);
+    hc = hertz_contact(1.0 / (m.hertz_inv_e[i] + inv_e), 1.0 / (m.hertz_inv_g[i] + inv_g), m.radius[i], m.mass[i],
+                       m.hertz_damping, overlap, rate);
     r.fn = hc.fn;
   } else {
     r.fn = normal_force(Kind::law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
   }
   double spin[S], turn[D], vt[D], vn = 0;
-  for (int k = 0; k < S; ++k) spin[k] = m.radius[i] * wi[k];
+  for (int k = 0; k < S; ++k) spin[k] = arm * wi[k];
   spin_cross<D>(spin, r.normal, turn);
   for (int d = 0; d < D; ++d) {
-    vt[d] = vi[d] - speed * r.normal[d] - turn[d];
+    vt[d] = vi[d] - wall_velocity[d] - turn[d];
     vn += vt[d] * r.normal[d];
   }
   for (int d = 0; d < D; ++d) vt[d] -= vn * r.normal[d];
@@ -218,19 +229,38 @@ template <int D, class Kind>
   }
   double nf[S];
   moment<D>(r.normal, r.ft, nf);
-  for (int k = 0; k < S; ++k) r.torque_j[k] = -m.radius[i] * nf[k];
+  for (int k = 0; k < S; ++k) r.torque_j[k] = -arm * nf[k];
   if constexpr (Kind::rolling) {
     double rolling[S], along = 0;
-    for (int k = 0; k < S; ++k) rolling[k] = wi[k];
+    for (int k = 0; k < S; ++k) rolling[k] = wall_spin != nullptr ? wi[k] - wall_spin[k] : wi[k];
     if constexpr (D == 3) {
       for (int k = 0; k < S; ++k) along += rolling[k] * r.normal[k];
       for (int k = 0; k < S; ++k) rolling[k] -= along * r.normal[k];
     }
     double roll[S];
     rolling_torque<S>(m.rolling_friction, m.radius[i], r.fn, rolling, m.inv_inertia[i], h, roll);
-    for (int k = 0; k < S; ++k) r.torque_j[k] += roll[k];
+    for (int k = 0; k < S; ++k) {
+      r.torque_j[k] += roll[k];
+      r.torque_i[k] = -roll[k];
+    }
   }
   return r;
+}
+
+/// A plane: the first body, with normal n (towards the particle), moving at
+/// `speed` along it without turning.
+template <int D, class Kind>
+[[gnu::always_inline]] inline ContactResult<D> plane_contact_as(const LawView<D>& m, std::int32_t i, std::size_t p,
+                                                                double overlap, double speed, const double (&vi)[D],
+                                                                const double* wi, double h, double (&xi)[D]) {
+  double normal[D], velocity[D];
+  for (int d = 0; d < D; ++d) {
+    normal[d] = m.plane_normal[p][d];
+    velocity[d] = speed * normal[d];
+  }
+  constexpr bool hertz = Kind::law == ContactLaw::hertz;
+  return wall_contact_as<D, Kind>(m, i, normal, speed, velocity, nullptr, hertz ? m.plane_inv_e[p] : 0.0,
+                                  hertz ? m.plane_inv_g[p] : 0.0, m.radius[i], overlap, vi, wi, h, xi);
 }
 
 }  // namespace
@@ -248,6 +278,15 @@ template <int D>
 ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t p, double overlap, double speed,
                                const double (&vi)[D], const double* wi, double h, double (&xi)[D]) {
   return with_law<D>(m, [&]<class Kind>(Kind) { return plane_contact_as<D, Kind>(LawView<D>(m), i, p, overlap, speed, vi, wi, h, xi); });
+}
+
+template <int D>
+ContactResult<D> wall_contact(const DemModel<D>& m, std::int32_t i, const WallContact<D>& wall, double overlap,
+                              const double (&vi)[D], const double* wi, double h, double (&xi)[D]) {
+  return with_law<D>(m, [&]<class Kind>(Kind) {
+    return wall_contact_as<D, Kind>(LawView<D>(m), i, wall.normal, wall.speed, wall.velocity, wall.spin, wall.inv_e,
+                                    wall.inv_g, wall.arm, overlap, vi, wi, h, xi);
+  });
 }
 
 namespace {
@@ -575,7 +614,14 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
   for_parts(w.parallel, parts, [&](int part) {
     const std::int32_t begin = part == 0 ? 0 : split, end = part == 0 ? split : n;
     input_accelerations<D, true>(m, s, at.a, begin, end);
-    for (int k = 0; k < S; ++k) std::fill(at.alpha[k] + begin, at.alpha[k] + end, 0.0);
+    for (int k = 0; k < S; ++k) {
+      if (m.features.external_torques) {
+        const double* torque = s.external_torque[k].data();
+        for (std::int32_t i = begin; i < end; ++i) at.alpha[k][i] = torque[i] * m.inv_inertia[i];
+      } else {
+        std::fill(at.alpha[k] + begin, at.alpha[k] + end, 0.0);
+      }
+    }
     double* totals = parts == 1 ? w.plane_force.data() : w.plane_force_part.data() + part * planes;
     active[part] = granular_planes<D, Kind>(m, s, at, t, h, keep, begin, end, totals);
   });
@@ -1001,7 +1047,9 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
                                             const double (&)[D], double, const double (&)[D], const double (&)[D], \
                                             const double*, const double*, double, double (&)[D]);                  \
   template ContactResult<D> plane_contact<D>(const DemModel<D>&, std::int32_t, std::size_t, double, double,        \
-                                             const double (&)[D], const double*, double, double (&)[D]);
+                                             const double (&)[D], const double*, double, double (&)[D]);        \
+  template ContactResult<D> wall_contact<D>(const DemModel<D>&, std::int32_t, const WallContact<D>&, double,        \
+                                            const double (&)[D], const double*, double, double (&)[D]);
 XFDEM_INSTANTIATE(2)
 XFDEM_INSTANTIATE(3)
 #undef XFDEM_INSTANTIATE

@@ -33,6 +33,30 @@ template <int D>
 ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t p, double overlap, double speed,
                                const double (&vi)[D], const double* wi, double h, double (&xi)[D]);
 
+/// A wall that is not one of the model's planes (the coupled 2D stepper's
+/// plate boundary): the contact's first body, with unit normal n (towards
+/// the particle), its surface's speed along n, its contact point's velocity,
+/// its spin (S components; nullptr: none), its hertz compliances (1 − ν²)/E
+/// and 2(2 − ν)(1 + ν)/E (0: rigid) and the particle's arm to the contact point
+/// (the plane's: its radius), for the contact point's velocity and the torque.
+template <int D>
+struct WallContact {
+  double normal[D];
+  double speed;
+  double velocity[D];
+  const double* spin;
+  double inv_e, inv_g;
+  double arm;
+};
+
+/// Particle i touching a wall with overlap δ > 0: the plane contact's law
+/// (plane_contact is this with the plane's normal, speed · n and no spin),
+/// the spring xi advanced by h. torque_j: the particle's torque; torque_i:
+/// the couple on the wall (rolling resistance).
+template <int D>
+ContactResult<D> wall_contact(const DemModel<D>& m, std::int32_t i, const WallContact<D>& wall, double overlap,
+                              const double (&vi)[D], const double* wi, double h, double (&xi)[D]);
+
 /// One step of a rotating model (verlet, symplectic_euler, rk4 or abm4).
 template <int D>
 StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w);

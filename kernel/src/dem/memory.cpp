@@ -123,9 +123,10 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
   m.grid_cells = r.max_cells;
   // Model: mass, inv_mass, radius, stiffness, plane_eta; each plane's point and normal.
   m.model = 5 * n * real + 2 * planes * d * real;
-  // State: x, v, x_ref, four history slots of v and a (external_force when on);
+  // State: x, v, x_ref, four history slots of v and a (external_force, and the
+  // 2D external_torque, when on);
   // the pair list; each plane's offset, speed, impulse and four history forces.
-  m.state = (3 + 8 + (desc.external_forces ? 1 : 0)) * d * n * real +
+  m.state = (3 + 8 + (desc.external_forces ? 1 : 0)) * d * n * real + (desc.external_torques ? n * real : 0) +
             static_cast<std::uint64_t>(r.max_pairs) * DemMemory::kBytesPerPair + 7 * planes * real;
   // Workspace: ten stage columns, part 0's cross buffer, the planes' forces
   // (four per plane and two parts' shares), the grid's index, the network bound.

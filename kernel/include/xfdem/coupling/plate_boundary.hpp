@@ -59,6 +59,10 @@ struct PlateBoundarySegment {
   int cell[2] = {0, 0};
   double xi[2] = {0, 0}, eta[2] = {0, 0};  ///< at a and at b
   int side = 1;
+  /// The chain of segments joined end to end it belongs to (a loop or an
+  /// open chain), named by one of its segments: what a disk's tangential
+  /// spring is kept by, so that it slides across joints with its history.
+  int chain = -1;
 };
 
 struct PlateBoundary {

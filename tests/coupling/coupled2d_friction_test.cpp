@@ -1,0 +1,444 @@
+// Frictional disks against the plate (coupled2d.hpp): the DEM's particle–wall
+// contact (Cundall–Strack spring, Coulomb cap, rolling resistance) between a
+// disk and the plate's boundary, each against a closed form computed here.
+//  - a disk thrown along a stiff plate's top slides, then rolls: deceleration
+//    μ g and spin-up while sliding, then v = v0 / (1 + I/(m a²)) (2/3 v0 for
+//    a disk, a = r − δ the arm to the contact point), with the linear law
+//    and with hertz (the plate's material the second body); rolling
+//    resistance slows a rolling disk at μ_r r m g a / (I + m a²);
+//  - on an incline (gravity turned, the plate's flat top): below tan θ = 3μ
+//    it rolls without slip at g sin θ / (1 + I/(m a²)) (2/3 g sin θ), its
+//    static friction force steady across 100 edge joints (the spring is kept
+//    from edge to edge); above it slides at g (sin θ − μ cos θ);
+//  - a free plate hit by spinning frictional disks, no gravity: total linear
+//    momentum constant to round-off; with no damping the energy at
+//    contact-free instants never rises;
+//  - no allocation in a step, the same bits on 1 and 2 workers and run after
+//    run; refusals naming the key.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+#include "support/coupled2d_scenes.hpp"
+#include "xfdem/coupled2d.hpp"
+#include "xfdem/platform/alloc_guard.hpp"
+#include "xfdem/platform/worker_pool.hpp"
+#include "xfdem/state_io.hpp"
+
+using namespace xfdem;
+using xfdem::testing::disk;
+using xfdem::testing::plate;
+using xfdem::testing::total_momentum;
+
+namespace {
+
+constexpr double kG = 9.81;
+
+/// A disk (m = 1 kg, r = 0.05 m, k = 1e6 N/m) on the top (y = 0.5 m) of a
+/// nearly rigid plate held at its bottom, of `cells` cells 0.1 m wide, with
+/// gravity turned by θ (the top an incline rising to the left: the disk goes
+/// towards +x), resting at the overlap m g cos θ / k, moving at v0 along x.
+struct Incline {
+  double m = 1.0, r = 0.05, k = 1e6, mu = 0.3, theta = 0.0;
+  double delta() const { return m * kG * std::cos(theta) / k; }
+  double arm() const { return r - delta(); }
+  double inertia() const { return 0.5 * m * r * r; }
+  Coupled2dDesc desc(int cells, double v0, double w0) const {
+    Coupled2dDesc d;
+    // E = 2e15: the plate's deflection under the disk leaves < 1e-8 m g in
+    // the normal force (coupled2d_test's sliding disk).
+    d.plate = plate(2e15, 0.1 * cells, 0.5, cells, 2);
+    d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
+    d.dem.integrator = DemIntegrator::symplectic_euler;
+    d.dem.damping_ratio = 0.3;
+    d.dem.friction = mu;
+    d.dem.tangential_stiffness_ratio = 0.8;
+    d.dem.gravity = {kG * std::sin(theta), -kG * std::cos(theta)};
+    ParticleDesc<2> p = disk(m, r, k, 0.3, 0.5 + r - delta(), v0, 0.0);
+    p.angular_velocity = {w0};
+    d.dem.particles.push_back(p);
+    d.dem_substeps = 10;
+    return d;
+  }
+};
+
+/// A free plate 2 m × 1 m, 8 × 4 cells, cut by a free crack, and four
+/// spinning disks coming at it from its four sides, no gravity, no damping.
+Coupled2dDesc free_plate_hit(double friction, double rolling) {
+  Coupled2dDesc d;
+  d.plate = xfdem::testing::cracked_free_plate();
+  d.dem.integrator = DemIntegrator::symplectic_euler;
+  d.dem.friction = friction;
+  d.dem.rolling_friction = rolling;
+  d.dem.tangential_stiffness_ratio = 0.8;
+  auto spinning = [](ParticleDesc<2> p, double w) {
+    p.angular_velocity = {w};
+    return p;
+  };
+  d.dem.particles.push_back(spinning(disk(2.0, 0.05, 1e6, -0.06, 0.37, 3.0, 0.4), 40.0));    // left
+  d.dem.particles.push_back(spinning(disk(1.0, 0.05, 1e6, 2.07, 0.71, -2.0, 1.0), -60.0));   // right
+  d.dem.particles.push_back(spinning(disk(1.5, 0.04, 2e6, 1.02, 1.05, 0.8, -2.5), 30.0));    // top, over the crack's mouth
+  d.dem.particles.push_back(spinning(disk(3.0, 0.06, 1e6, 0.51, -0.07, -0.9, 1.5), -20.0));  // bottom
+  d.dem_substeps = 10;
+  return d;
+}
+
+}  // namespace
+
+// Thrown at v0 without spin on a flat top: sliding, friction −μ m g slows it
+// and its torque (r − δ) μ m g spins it up; the slip would end at
+// t* = v0 / (μ g (1 + m a²/I)). The sticking dashpot takes the contact below
+// the cap once the trial force, the cap plus η_t times the slip's decrease
+// over a substep less k_t h v_slip, falls under it: at v_slip = η_t s / k_t
+// (s the slip's deceleration), η_t/k_t before t*. Then it rolls at
+// v0 / (1 + I/(m a²)) (the angular momentum about the contact point is kept).
+namespace {
+
+/// Runs the thrown disk of Incline `c` (desc `d`) and checks it against the
+/// closed forms; k_t: the tangential stiffness (hertz: S_t at rest), eta_t
+/// its dashpot, delta the overlap at rest.
+void slides_then_rolls(const char* what, const Incline& c, const Coupled2dDesc& d, double kt, double eta_t,
+                       double delta) {
+  const double v0 = d.dem.particles[0].velocity[0];
+  Coupled2dWorld w;
+  const BuildResult built = w.build(d);
+  ASSERT_TRUE(built.ok()) << built.message;
+  const double a = c.r - delta, ratio = c.m * a * a / c.inertia();
+  const double t_stick = v0 / (c.mu * kG * (1.0 + ratio));
+  const double v_roll = v0 / (1.0 + 1.0 / ratio);
+  const double dt = w.model.dt;
+  const double t_below_cap = t_stick - eta_t / kt;
+  double worst_v = 0, worst_w = 0, worst_cap = 0, stuck_at = -1;
+  for (int step = 0; step < 4000; ++step) {
+    ASSERT_EQ(w.step(), StepStatus::ok) << step;
+    const double t = w.state.time;
+    double f[2];
+    ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, 0, f));
+    if (t < t_below_cap - 2 * dt) {
+      // Sliding: the held force at the cap, the rates its closed forms.
+      worst_cap = std::max(worst_cap, std::fabs(f[0] + c.mu * f[1]));
+      worst_v = std::max(worst_v, std::fabs(w.state.dem.v[0][0] - (v0 - c.mu * kG * t)));
+      worst_w = std::max(worst_w, std::fabs(w.state.dem.w[0][0] + c.mu * kG * t * a * c.m / c.inertia()));
+    }
+    if (stuck_at < 0 && std::fabs(f[0]) < (1.0 - 1e-6) * c.mu * f[1]) stuck_at = t;
+  }
+  const double v = w.state.dem.v[0][0], spin = w.state.dem.w[0][0];
+  std::printf("slide then roll (%s): sliding |v - (v0 - mu g t)| <= %.3g m/s, |w - w(t)| <= %.3g rad/s, "
+              "|F_t + mu F_n| <= %.3g N; below the cap from %.5f s (closed form %.5f s, t* = %.5f s); v = %.9f m/s "
+              "(closed form %.9f, 2/3 v0 = %.9f), v + w a = %.3g m/s\n",
+              what, worst_v, worst_w, worst_cap, stuck_at, t_below_cap, t_stick, v, v_roll, 2.0 / 3.0 * v0,
+              v + spin * a);
+  // The normal force is m g to 1e-8 (the plate's deflection): so are the rates.
+  EXPECT_LT(worst_cap, 1e-8 * c.mu * c.m * kG);
+  EXPECT_LT(worst_v, 1e-8 * v0);
+  EXPECT_LT(worst_w, 1e-8 * v0 / c.r);
+  EXPECT_NEAR(stuck_at, t_below_cap, 2 * dt);
+  EXPECT_NEAR(v, v_roll, 1e-8 * v0);
+  EXPECT_LT(std::fabs(v + spin * a), 1e-8 * v0);
+}
+
+}  // namespace
+
+TEST(Coupled2dFriction, ADiskThrownAlongThePlateSlidesThenRolls) {
+  Incline c;
+  const double kt = 0.8 * c.k;
+  slides_then_rolls("linear", c, c.desc(20, 2.0, 0.0), kt, 2.0 * 0.3 * std::sqrt(kt * c.m), c.delta());
+}
+
+// The same with the hertz law, the plate's material the second body: at rest
+// δ = (3 m g / (4 E* √r))^{2/3}, S_t = 8 G* √(r δ), η_t = −2√(5/6) β √(S_t m).
+TEST(Coupled2dFriction, AHertzDiskThrownAlongThePlateSlidesThenRolls) {
+  Incline c;
+  Coupled2dDesc d = c.desc(20, 2.0, 0.0);
+  const double e = 1e8, nu = 0.3, restitution = 0.5;
+  d.dem.law = ContactLaw::hertz;
+  d.dem.damping_ratio = 0;
+  d.dem.tangential_stiffness_ratio = 0;
+  d.dem.restitution = restitution;
+  const double inv_e = (1 - nu * nu) / e + (1 - d.plate.poisson_ratio * d.plate.poisson_ratio) / d.plate.youngs_modulus;
+  const double inv_g = 2 * (2 - nu) * (1 + nu) / e +
+                       2 * (2 - d.plate.poisson_ratio) * (1 + d.plate.poisson_ratio) / d.plate.youngs_modulus;
+  const double delta = std::pow(3.0 * c.m * kG * inv_e / (4.0 * std::sqrt(c.r)), 2.0 / 3.0);
+  ParticleDesc<2>& p = d.dem.particles[0];
+  p.youngs_modulus = e, p.poisson_ratio = nu, p.stiffness = 0;
+  p.position[1] = 0.5 + c.r - delta;
+  const double st = 8.0 / inv_g * std::sqrt(c.r * delta);
+  const double l = std::log(restitution);
+  const double beta = l / std::sqrt(l * l + std::numbers::pi * std::numbers::pi);
+  slides_then_rolls("hertz", c, d, st, -2.0 * std::sqrt(5.0 / 6.0) * beta * std::sqrt(st * c.m), delta);
+}
+
+// Rolling at v0 with rolling resistance μ_r: the torque μ_r r m g against the
+// spin slows it at μ_r r m g a / (I + m a²), still without slip.
+TEST(Coupled2dFriction, RollingResistanceSlowsARollingDisk) {
+  Incline c;
+  const double v0 = 2.0, mu_r = 0.01;
+  Coupled2dDesc d = c.desc(20, v0, -v0 / c.arm());
+  d.dem.rolling_friction = mu_r;
+  Coupled2dWorld w;
+  const BuildResult built = w.build(d);
+  ASSERT_TRUE(built.ok()) << built.message;
+  const double a = c.arm();
+  const double decel = mu_r * c.r * c.m * kG * a / (c.inertia() + c.m * a * a);
+  double v1 = 0, t1 = 0, worst_slip = 0;
+  for (int step = 0; step < 3000; ++step) {
+    ASSERT_EQ(w.step(), StepStatus::ok) << step;
+    if (step == 500) v1 = w.state.dem.v[0][0], t1 = w.state.time;
+    if (step > 500) worst_slip = std::max(worst_slip, std::fabs(w.state.dem.v[0][0] + w.state.dem.w[0][0] * a));
+  }
+  const double measured = (v1 - w.state.dem.v[0][0]) / (w.state.time - t1);
+  std::printf("rolling resistance mu_r %.2f: deceleration %.9f m/s^2 (closed form %.9f), slip <= %.3g m/s\n", mu_r,
+              measured, decel, worst_slip);
+  EXPECT_NEAR(measured, decel, 1e-8 * decel);
+  EXPECT_LT(worst_slip, 1e-8 * v0);
+}
+
+// On an incline below tan θ = 3μ (here μ = 0.3, tan 20° = 0.36 < 0.9), a
+// disk rolling from 18 m/s keeps rolling without slip: a = g sin θ / (1 +
+// I/(m a²)), the friction force m g sin θ − m a. It crosses about 100 edge
+// joints of the plate's top: the static spring is kept from edge to edge
+// (the history key is the boundary chain), so the force has no bump there
+// and the disk's normal velocity stays at round-off.
+TEST(Coupled2dFriction, ADiskRollsDownAnInclineAcross100JointsWithoutABump) {
+  Incline c;
+  c.theta = 20.0 * std::numbers::pi / 180.0;
+  const double v0 = 18.0;
+  const double a = c.arm(), ratio = c.m * a * a / c.inertia();
+  const double accel = kG * std::sin(c.theta) / (1.0 + 1.0 / ratio);
+  const double friction_force = c.m * kG * std::sin(c.theta) - c.m * accel;
+  Coupled2dWorld w;
+  const BuildResult built = w.build(c.desc(120, v0, -v0 / a));
+  ASSERT_TRUE(built.ok()) << built.message;
+  // The spring starts at 0 and takes its load in a damped oscillation
+  // (ω ≈ √(k_t (1/m + a²/I)) ≈ 1.5e3 rad/s); from 0.05 s on it is steady.
+  double worst_force = 0, worst_slip = 0, worst_vy = 0, worst_jump = 0, v1 = 0, t1 = 0;
+  double previous = 0;
+  const double x_start = 0.3;
+  double x_steady = 0;
+  for (int step = 0; step < 6000; ++step) {
+    ASSERT_EQ(w.step(), StepStatus::ok) << step;
+    double f[2];
+    ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, 0, f));
+    if (step == 500) {
+      v1 = w.state.dem.v[0][0], t1 = w.state.time, x_steady = w.state.dem.x[0][0];
+    } else if (step > 500) {
+      worst_force = std::max(worst_force, std::fabs(-f[0] - friction_force));
+      worst_jump = std::max(worst_jump, std::fabs(f[0] - previous));
+      worst_slip = std::max(worst_slip, std::fabs(w.state.dem.v[0][0] + w.state.dem.w[0][0] * a));
+      worst_vy = std::max(worst_vy, std::fabs(w.state.dem.v[1][0]));
+    }
+    previous = f[0];
+  }
+  const double measured = (w.state.dem.v[0][0] - v1) / (w.state.time - t1);
+  const double joints = std::floor(w.state.dem.x[0][0] / 0.1) - std::floor(x_steady / 0.1);
+  std::printf("rolling down 20 deg from x = %.2f m, steady from %.2f to %.2f m (%g joints): a = %.9f m/s^2 "
+              "(closed form %.9f, 2/3 g sin = %.9f), |F_t - F| <= %.3g N of %.4f N, step-to-step |dF_t| <= %.3g N, "
+              "slip <= %.3g m/s, |v_y| <= %.3g m/s\n",
+              x_start, x_steady, w.state.dem.x[0][0], joints, measured, accel, 2.0 / 3.0 * kG * std::sin(c.theta),
+              worst_force, friction_force, worst_jump, worst_slip, worst_vy);
+  EXPECT_GE(joints, 100.0);
+  EXPECT_NEAR(measured, accel, 1e-8 * accel);
+  // What is left is the plate's deflection under the moving load (1e-8 of
+  // the normal force); a spring lost at a joint would drop the force by
+  // all of it (keyed by segment instead of chain: 1.1 N bumps).
+  EXPECT_LT(worst_force, 1e-7 * friction_force);
+  EXPECT_LT(worst_jump, 1e-7 * friction_force);
+  EXPECT_LT(worst_slip, 1e-8 * v0);
+  EXPECT_LT(worst_vy, 1e-9);
+}
+
+// Above tan θ = 3μ (μ = 0.2, tan 40° = 0.84 > 0.6) the disk slides: its
+// centre accelerates at g (sin θ − μ cos θ) and it spins up at μ g cos θ a m/I.
+TEST(Coupled2dFriction, ADiskSlidesDownASteeperIncline) {
+  Incline c;
+  c.mu = 0.2;
+  c.theta = 40.0 * std::numbers::pi / 180.0;
+  ASSERT_GT(std::tan(c.theta), 3 * c.mu);
+  Coupled2dWorld w;
+  const BuildResult built = w.build(c.desc(20, 0.0, 0.0));
+  ASSERT_TRUE(built.ok()) << built.message;
+  const double accel = kG * (std::sin(c.theta) - c.mu * std::cos(c.theta));
+  const double spin_up = c.mu * kG * std::cos(c.theta) * c.arm() * c.m / c.inertia();
+  double v1 = 0, w1 = 0, t1 = 0;
+  for (int step = 0; step < 3000; ++step) {
+    ASSERT_EQ(w.step(), StepStatus::ok) << step;
+    if (step == 500) v1 = w.state.dem.v[0][0], w1 = w.state.dem.w[0][0], t1 = w.state.time;
+  }
+  const double span = w.state.time - t1;
+  const double a_measured = (w.state.dem.v[0][0] - v1) / span;
+  const double alpha_measured = (w.state.dem.w[0][0] - w1) / span;
+  const double slip = w.state.dem.v[0][0] + w.state.dem.w[0][0] * c.arm();
+  std::printf("sliding down 40 deg, mu 0.2: a = %.9f m/s^2 (closed form %.9f), alpha = %.6f rad/s^2 (closed form "
+              "%.6f), slip %.4f m/s\n",
+              a_measured, accel, alpha_measured, -spin_up, slip);
+  EXPECT_NEAR(a_measured, accel, 1e-8 * accel);
+  EXPECT_NEAR(alpha_measured, -spin_up, 1e-8 * spin_up);
+  EXPECT_GT(slip, 0.1);
+}
+
+// A free cracked plate hit by four spinning disks with friction and rolling
+// resistance, no gravity, no damping: the exchange is of impulses (normal
+// and tangential force, and the rolling couple as two opposite forces), so
+// the total linear momentum stays at its start to round-off. Energy at the
+// instants no disk touches the plate (when it is all kinetic and the
+// plate's) never rises: friction only takes it out.
+TEST(Coupled2dFriction, FreePlateHitBySpinningDisksKeepsMomentumAndLosesEnergy) {
+  Coupled2dWorld w;
+  const BuildResult r = w.build(free_plate_hit(0.5, 0.02));
+  ASSERT_TRUE(r.ok()) << r.message;
+  double scale = 0;
+  for (std::int32_t i = 0; i < w.model.dem.n; ++i)
+    scale += w.model.dem.mass[i] * std::hypot(w.state.dem.v[0][i], w.state.dem.v[1][i]);
+  auto energy = [&] {
+    double e = plate_algorithmic_energy(w.model.plate, w.state.plate);
+    for (std::int32_t i = 0; i < w.model.dem.n; ++i)
+      e += 0.5 * w.model.dem.mass[i] * (w.state.dem.v[0][i] * w.state.dem.v[0][i] + w.state.dem.v[1][i] * w.state.dem.v[1][i]) +
+           0.5 * w.state.dem.w[0][i] * w.state.dem.w[0][i] / w.model.dem.inv_inertia[i];
+    return e;
+  };
+  const double p0[2] = {total_momentum(w.model, w.state, 0), total_momentum(w.model, w.state, 1)};
+  const double e0 = energy();
+  double worst = 0, last_free = e0, worst_rise = 0, peak_torque = 0, worst_work = 0, work_scale = 0;
+  int free_instants = 0;
+  for (int step = 0; step < 600; ++step) {
+    const double before[2] = {w.state.work_on_plate, w.state.work_by_particles};
+    ASSERT_EQ(w.step(), StepStatus::ok) << "step " << step;
+    // The exchange's work, the rolling couple's included: what the plate
+    // received against what the disks did on the boundary it saw.
+    const double on_plate = w.state.work_on_plate - before[0], by_disks = w.state.work_by_particles - before[1];
+    worst_work = std::max(worst_work, std::fabs(on_plate - by_disks));
+    work_scale += std::fabs(on_plate);
+    for (int axis = 0; axis < 2; ++axis)
+      worst = std::max(worst, std::fabs(total_momentum(w.model, w.state, axis) - p0[axis]));
+    bool touching = false;
+    for (std::int32_t i = 0; i < w.model.dem.n; ++i) {
+      double f[2];
+      ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, i, f));
+      touching = touching || f[0] != 0 || f[1] != 0;
+      peak_torque = std::max(peak_torque, std::fabs(w.state.dem.external_torque[0][i]));
+    }
+    // Touching at the end of a step's last substep or not: whether it still
+    // touches is seen at the next substep's start, so a free instant is one
+    // between two steps that both end free.
+    if (!touching) {
+      const double e = energy();
+      worst_rise = std::max(worst_rise, e - last_free);
+      last_free = e;
+      ++free_instants;
+    }
+  }
+  std::printf("free plate, 4 spinning frictional disks, 600 steps: momentum drift %.3g of %.3g kg m/s; energy at "
+              "%d contact-free instants: worst rise %.3g J, from %.6f J to %.6f J; peak |torque| %.3g N m; exchange work: "
+              "worst step %.3g J of sum |W| %.3g J\n",
+              worst, scale, free_instants, worst_rise, e0, last_free, peak_torque, worst_work, work_scale);
+  EXPECT_GT(peak_torque, 0.0);
+  EXPECT_LT(worst, 1e-12 * scale);
+  EXPECT_GT(free_instants, 10);
+  EXPECT_LT(last_free, e0);
+  EXPECT_LE(worst_rise, 1e-12 * e0);
+  EXPECT_GT(work_scale, 0.0);
+  EXPECT_LT(worst_work, 1e-9 * work_scale);  // coupled2d_test's bound: the fixed point's tolerance
+}
+
+TEST(Coupled2dFriction, StepNeverAllocatesAndGivesTheSameBitsOnTwoWorkersAndRunAfterRun) {
+  Coupled2dDesc d = free_plate_hit(0.5, 0.02);
+  d.dem.damping_ratio = 0.05;
+  d.dem.split_from = 2;  // two parts of disks, so that a pool runs them on two workers
+  d.dem.particles[0].position = {-0.051, 0.37};  // 1 mm from the plate
+  Coupled2dWorld one, again, two;
+  ASSERT_TRUE(one.build(d).ok());
+  ASSERT_TRUE(again.build(d).ok());
+  ASSERT_TRUE(two.build(d).ok());
+  platform::TwoWorkerPool pool;
+  two.workspace.dem.parallel = pool.parallel_for();
+  {
+    platform::AllocationCounter counter;
+    for (int step = 0; step < 30; ++step) ASSERT_EQ(one.step(), StepStatus::ok);
+    EXPECT_EQ(counter.allocations(), 0u);
+  }
+  for (int step = 0; step < 30; ++step) ASSERT_EQ(again.step(), StepStatus::ok);
+  for (int step = 0; step < 30; ++step) ASSERT_EQ(two.step(), StepStatus::ok);
+  EXPECT_NE(one.state.dem.external_torque[0][0], 0.0);  // the left disk touches with friction by then
+  for (const Coupled2dWorld* other : {&again, &two}) {
+    for (std::int32_t i = 0; i < one.model.dem.n; ++i) {
+      for (int axis = 0; axis < 2; ++axis) {
+        EXPECT_EQ(one.state.dem.x[axis][i], other->state.dem.x[axis][i]);
+        EXPECT_EQ(one.state.dem.v[axis][i], other->state.dem.v[axis][i]);
+      }
+      EXPECT_EQ(one.state.dem.w[0][i], other->state.dem.w[0][i]);
+    }
+    EXPECT_EQ(one.state.springs.xi, other->state.springs.xi);
+    EXPECT_EQ(one.state.springs.chain, other->state.springs.chain);
+    EXPECT_EQ(one.state.plate.u, other->state.plate.u);
+    EXPECT_EQ(one.state.plate.v, other->state.plate.v);
+  }
+}
+
+TEST(Coupled2dFriction, BadInputIsRefusedNamingTheKey) {
+  {
+    Coupled2dDesc d = free_plate_hit(0.5, 0.0);
+    d.dem.integrator = DemIntegrator::verlet;
+    Coupled2dWorld w;
+    const BuildResult r = w.build(d);
+    EXPECT_FALSE(r.ok());
+    EXPECT_NE(std::strstr(r.message, "dem.integrator"), nullptr) << r.message;
+    EXPECT_NE(std::strstr(r.message, "friction"), nullptr) << r.message;
+  }
+  {
+    Coupled2dDesc d = free_plate_hit(0.0, 0.0);
+    d.dem.law = ContactLaw::hertz;
+    for (auto& p : d.dem.particles) p.youngs_modulus = 7e10, p.poisson_ratio = 0.3;
+    PlateDiscontinuity inclusion;
+    inclusion.name = "stiff";
+    inclusion.kind = PlateDiscontinuity::Kind::inclusion;
+    inclusion.shape = PlateDiscontinuity::Shape::circle;
+    inclusion.centre[0] = 0.4, inclusion.centre[1] = 0.5, inclusion.radius = 0.2;
+    inclusion.material = {2e11, 0.3, 7800};
+    d.plate.discontinuities.push_back(inclusion);
+    Coupled2dWorld w;
+    const BuildResult r = w.build(d);
+    EXPECT_FALSE(r.ok());
+    EXPECT_NE(std::strstr(r.message, "dem.contact.law"), nullptr) << r.message;
+  }
+  {
+    // The DEM's torque input needs particles that rotate.
+    DemDesc<2> d;
+    d.integrator = DemIntegrator::symplectic_euler;
+    d.dt = 1e-5;
+    d.particles.push_back(disk(1.0, 0.05, 1e6, 0.0, 0.0, 0.0, 0.0));
+    d.external_torques = true;
+    DemWorld<2> w;
+    const BuildResult r = w.build(d);
+    EXPECT_FALSE(r.ok());
+    EXPECT_NE(std::strstr(r.message, "external_torques"), nullptr) << r.message;
+  }
+}
+
+// The torque input is a field of the DEM's state (hashes, snapshots) only
+// when on: frictionless coupled scenes keep their layout; frictional ones
+// carry the torques and the springs.
+TEST(Coupled2dFriction, TheTorqueInputAndTheSpringsAreStateOnlyWhenOn) {
+  Coupled2dWorld frictionless, frictional;
+  Coupled2dDesc d = free_plate_hit(0.0, 0.0);
+  ASSERT_TRUE(frictionless.build(d).ok());
+  EXPECT_TRUE(frictionless.state.dem.external_torque[0].empty());
+  EXPECT_TRUE(frictionless.state.springs.chain.empty());
+  d.dem.friction = 0.5;
+  ASSERT_TRUE(frictional.build(d).ok());
+  EXPECT_EQ(frictional.state.dem.external_torque[0].size(), 4u);
+  EXPECT_EQ(frictional.state.springs.chain.size(), 4u * kPlateBoundaryMaxContacts);
+  // The same rotating DEM with and without the input: one field more.
+  DemDesc<2> dem = d.dem;
+  dem.dt = 1e-5;
+  DemWorld<2> with, without;
+  ASSERT_TRUE(without.build(dem).ok());
+  dem.external_torques = true;
+  ASSERT_TRUE(with.build(dem).ok());
+  EXPECT_EQ(field_count(with.state), field_count(without.state) + 1);
+  EXPECT_NE(layout_hash(with.state), layout_hash(without.state));
+}
