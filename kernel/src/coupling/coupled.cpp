@@ -1,7 +1,6 @@
 // The coupled X-FE-DEM step; see coupled.hpp and docs/coupling.md.
 #include "xfdem/coupled.hpp"
 
-#include <array>
 #include <cmath>
 #include <cstring>
 #include <type_traits>
@@ -36,7 +35,7 @@ void for_each_double(DemState<1>& state, F&& f) {
 /// to = from for two states of one model, as the window copies them (the
 /// same array sizes): each array by a plain loop over its values, walking the
 /// two states' one list of fields side by side. For the few particles of a
-/// coupled scene that costs about half of DemState's assignment, whose
+/// coupled scene that costs two thirds of DemState's assignment, whose
 /// std::vector assignments check capacities and call memmove for arrays of
 /// two values. States with other sizes (not of one model) take the
 /// assignment, which may allocate. Not inlined, so that a profile names it
