@@ -299,6 +299,13 @@ struct DemModel {
   EnergyCheck energy_check;  ///< DemDesc::energy_check
 };
 
+/// Another state's field, walked alongside (DemState::for_each_array).
+template <class T>
+struct StateArray {
+  T* data;
+  std::size_t count;
+};
+
 /// Everything a step changes. Plain data: copying it is a snapshot.
 template <int D>
 struct DemState {
@@ -371,8 +378,13 @@ struct DemState {
   /// restart them (dem_restart_energy_ledger).
   EnergyLedger energy;
 
-  template <class Visitor>
-  void for_each_array(Visitor&& visit);
+  /// Calls visit(name, data, count) for every field, in one fixed order (the
+  /// one list of fields: snapshots, hashes and the coupled window's copies
+  /// and blends walk it). With other states of the same dimension, their
+  /// field is passed alongside as a StateArray each: visit(name, data, count,
+  /// StateArray{other.data, other.count}...).
+  template <class Visitor, class... Others>
+  void for_each_array(Visitor&& visit, Others&... others);
 };
 
 /// Time spent per stage, accumulated over steps while the host has installed
@@ -543,55 +555,78 @@ double dem_rotation(const DemModel<D>& model, const DemState<D>& state, std::int
 // ---- implementation of the template member ---------------------------------
 
 template <int D>
-template <class Visitor>
-void DemState<D>::for_each_array(Visitor&& visit) {
-  visit("time", &time, 1);
-  visit("step", &step, 1);
-  for (int d = 0; d < D; ++d) visit("x", x[d].data(), x[d].size());
-  for (int d = 0; d < D; ++d) visit("v", v[d].data(), v[d].size());
-  for (auto& c : w) visit("w", c.data(), c.size());
+template <class Visitor, class... Others>
+void DemState<D>::for_each_array(Visitor&& visit, Others&... others) {
+  visit("time", &time, 1, StateArray{&others.time, std::size_t{1}}...);
+  visit("step", &step, 1, StateArray{&others.step, std::size_t{1}}...);
+  for (int d = 0; d < D; ++d)
+    visit("x", x[d].data(), x[d].size(), StateArray{others.x[d].data(), others.x[d].size()}...);
+  for (int d = 0; d < D; ++d)
+    visit("v", v[d].data(), v[d].size(), StateArray{others.v[d].data(), others.v[d].size()}...);
+  for (std::size_t c = 0; c < w.size(); ++c)
+    visit("w", w[c].data(), w[c].size(), StateArray{others.w[c].data(), others.w[c].size()}...);
   for (int k = 0; k < 4; ++k)
     for (int c = 0; c < spin_components(D); ++c) {
-      visit("hist_w", hist_w[k][c].data(), hist_w[k][c].size());
-      visit("hist_alpha", hist_alpha[k][c].data(), hist_alpha[k][c].size());
+      visit("hist_w", hist_w[k][c].data(), hist_w[k][c].size(),
+            StateArray{others.hist_w[k][c].data(), others.hist_w[k][c].size()}...);
+      visit("hist_alpha", hist_alpha[k][c].data(), hist_alpha[k][c].size(),
+            StateArray{others.hist_alpha[k][c].data(), others.hist_alpha[k][c].size()}...);
     }
-  for (auto& c : angle) visit("angle", c.data(), c.size());
-  for (auto& c : pair_xi) visit("pair_xi", c.data(), c.size());
-  for (auto& c : plane_xi) visit("plane_xi", c.data(), c.size());
-  for (int d = 0; d < D; ++d) visit("external_force", external_force[d].data(), external_force[d].size());
+  for (std::size_t c = 0; c < angle.size(); ++c)
+    visit("angle", angle[c].data(), angle[c].size(), StateArray{others.angle[c].data(), others.angle[c].size()}...);
+  for (std::size_t c = 0; c < pair_xi.size(); ++c)
+    visit("pair_xi", pair_xi[c].data(), pair_xi[c].size(),
+          StateArray{others.pair_xi[c].data(), others.pair_xi[c].size()}...);
+  for (std::size_t c = 0; c < plane_xi.size(); ++c)
+    visit("plane_xi", plane_xi[c].data(), plane_xi[c].size(),
+          StateArray{others.plane_xi[c].data(), others.plane_xi[c].size()}...);
+  for (int d = 0; d < D; ++d)
+    visit("external_force", external_force[d].data(), external_force[d].size(),
+          StateArray{others.external_force[d].data(), others.external_force[d].size()}...);
   // Listed only when on, so that a state without it keeps its layout and hashes.
-  for (auto& c : external_torque)
-    if (!c.empty()) visit("external_torque", c.data(), c.size());
+  for (std::size_t c = 0; c < external_torque.size(); ++c)
+    if (!external_torque[c].empty())
+      visit("external_torque", external_torque[c].data(), external_torque[c].size(),
+            StateArray{others.external_torque[c].data(), others.external_torque[c].size()}...);
   for (int s = 0; s < 4; ++s)
     for (int d = 0; d < D; ++d) {
-      visit("hist_v", hist_v[s][d].data(), hist_v[s][d].size());
-      visit("hist_a", hist_a[s][d].data(), hist_a[s][d].size());
+      visit("hist_v", hist_v[s][d].data(), hist_v[s][d].size(),
+            StateArray{others.hist_v[s][d].data(), others.hist_v[s][d].size()}...);
+      visit("hist_a", hist_a[s][d].data(), hist_a[s][d].size(),
+            StateArray{others.hist_a[s][d].data(), others.hist_a[s][d].size()}...);
     }
-  visit("history_head", &history_head, 1);
-  visit("history_count", &history_count, 1);
-  visit("pair_count", &pair_count, 1);
-  visit("pair_i", pair_i.data(), pair_i.size());
-  visit("pair_j", pair_j.data(), pair_j.size());
-  visit("pair_stiffness", pair_stiffness.data(), pair_stiffness.size());
-  visit("pair_eta", pair_eta.data(), pair_eta.size());
-  for (int d = 0; d < D; ++d) visit("x_ref", x_ref[d].data(), x_ref[d].size());
-  visit("pairs_valid", &pairs_valid, 1);
-  visit("plane_offset", plane_offset.data(), plane_offset.size());
-  visit("plane_speed", plane_speed.data(), plane_speed.size());
-  visit("plane_time", &plane_time, 1);
-  visit("plane_impulse", plane_impulse.data(), plane_impulse.size());
-  for (int k = 0; k < 4; ++k) visit("hist_plane_force", hist_plane_force[k].data(), hist_plane_force[k].size());
-  visit("list_builds", &list_builds, 1);
-  visit("peak_pairs", &peak_pairs, 1);
-  visit("peak_neighbors", &peak_neighbors, 1);
-  visit("peak_grid_cells", &peak_grid_cells, 1);
-  visit("peak_events", &peak_events, 1);
-  visit("events_located", &events_located, 1);
-  visit("network_omega2", &network_omega2, 1);
-  visit("energy_reference", &energy.reference, 1);
-  visit("energy_work", &energy.work, 1);
-  visit("energy_peak", &energy.peak, 1);
-  visit("energy_exceeded", &energy.exceeded, 1);
+  visit("history_head", &history_head, 1, StateArray{&others.history_head, std::size_t{1}}...);
+  visit("history_count", &history_count, 1, StateArray{&others.history_count, std::size_t{1}}...);
+  visit("pair_count", &pair_count, 1, StateArray{&others.pair_count, std::size_t{1}}...);
+  visit("pair_i", pair_i.data(), pair_i.size(), StateArray{others.pair_i.data(), others.pair_i.size()}...);
+  visit("pair_j", pair_j.data(), pair_j.size(), StateArray{others.pair_j.data(), others.pair_j.size()}...);
+  visit("pair_stiffness", pair_stiffness.data(), pair_stiffness.size(),
+        StateArray{others.pair_stiffness.data(), others.pair_stiffness.size()}...);
+  visit("pair_eta", pair_eta.data(), pair_eta.size(), StateArray{others.pair_eta.data(), others.pair_eta.size()}...);
+  for (int d = 0; d < D; ++d)
+    visit("x_ref", x_ref[d].data(), x_ref[d].size(), StateArray{others.x_ref[d].data(), others.x_ref[d].size()}...);
+  visit("pairs_valid", &pairs_valid, 1, StateArray{&others.pairs_valid, std::size_t{1}}...);
+  visit("plane_offset", plane_offset.data(), plane_offset.size(),
+        StateArray{others.plane_offset.data(), others.plane_offset.size()}...);
+  visit("plane_speed", plane_speed.data(), plane_speed.size(),
+        StateArray{others.plane_speed.data(), others.plane_speed.size()}...);
+  visit("plane_time", &plane_time, 1, StateArray{&others.plane_time, std::size_t{1}}...);
+  visit("plane_impulse", plane_impulse.data(), plane_impulse.size(),
+        StateArray{others.plane_impulse.data(), others.plane_impulse.size()}...);
+  for (int k = 0; k < 4; ++k)
+    visit("hist_plane_force", hist_plane_force[k].data(), hist_plane_force[k].size(),
+          StateArray{others.hist_plane_force[k].data(), others.hist_plane_force[k].size()}...);
+  visit("list_builds", &list_builds, 1, StateArray{&others.list_builds, std::size_t{1}}...);
+  visit("peak_pairs", &peak_pairs, 1, StateArray{&others.peak_pairs, std::size_t{1}}...);
+  visit("peak_neighbors", &peak_neighbors, 1, StateArray{&others.peak_neighbors, std::size_t{1}}...);
+  visit("peak_grid_cells", &peak_grid_cells, 1, StateArray{&others.peak_grid_cells, std::size_t{1}}...);
+  visit("peak_events", &peak_events, 1, StateArray{&others.peak_events, std::size_t{1}}...);
+  visit("events_located", &events_located, 1, StateArray{&others.events_located, std::size_t{1}}...);
+  visit("network_omega2", &network_omega2, 1, StateArray{&others.network_omega2, std::size_t{1}}...);
+  visit("energy_reference", &energy.reference, 1, StateArray{&others.energy.reference, std::size_t{1}}...);
+  visit("energy_work", &energy.work, 1, StateArray{&others.energy.work, std::size_t{1}}...);
+  visit("energy_peak", &energy.peak, 1, StateArray{&others.energy.peak, std::size_t{1}}...);
+  visit("energy_exceeded", &energy.exceeded, 1, StateArray{&others.energy.exceeded, std::size_t{1}}...);
 }
 
 }  // namespace xfdem

@@ -1,7 +1,6 @@
 // The coupled X-FE-DEM step; see coupled.hpp and docs/coupling.md.
 #include "xfdem/coupled.hpp"
 
-#include <array>
 #include <cmath>
 #include <cstring>
 #include <type_traits>
@@ -31,6 +30,28 @@ void for_each_double(DemState<1>& state, F&& f) {
     using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
     if constexpr (std::is_same_v<T, double>) f(name, data, static_cast<std::size_t>(count));
   });
+}
+
+/// to = from for two states of one model, as the window copies them (the
+/// same array sizes): each array by a plain loop over its values, walking the
+/// two states' one list of fields side by side. For the few particles of a
+/// coupled scene that costs two thirds of DemState's assignment, whose
+/// std::vector assignments check capacities and call memmove for arrays of
+/// two values. States with other sizes (not of one model) take the
+/// assignment, which may allocate. Not inlined, so that a profile names it
+/// (tools/callgrind_steps.py).
+[[gnu::noinline]] void copy_state(DemState<1>& to, const DemState<1>& from) {
+  bool same = true;
+  to.for_each_array(
+      [&](const char*, auto* data, auto count, auto source) {
+        if (source.count != static_cast<std::size_t>(count)) {
+          same = false;
+          return;
+        }
+        for (std::size_t i = 0; i < source.count; ++i) data[i] = source.data[i];
+      },
+      from);
+  if (!same) to = from;
 }
 
 BuildResult prefixed(const char* prefix, const BuildResult& r) { return BuildResult::failure(r.code, "%s%s", prefix, r.message); }
@@ -159,12 +180,12 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
   const bool bar_stepped = !restore || !m.bar.linear_in_tip_force;
   if (restore) {  // the first pass starts from the state as it is
     if (bar_stepped) s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
-    s.dem = w.dem_start;
+    copy_state(s.dem, w.dem_start);
   }
   // A step not taken leaves the state as the window found it.
   const auto not_taken = [&](StepStatus status) {
     s.bar = w.bar_start;
-    s.dem = w.dem_start;
+    copy_state(s.dem, w.dem_start);
     return status;
   };
   const auto now = [&w] { return w.clock_ns ? w.clock_ns() : 0; };
@@ -230,49 +251,28 @@ bool start_finite(const CoupledModel& m, const CoupledState& s) {
 /// ring, counters) is the same in both: then the two ends differ only in
 /// values, and the blend is a state the window could have ended in.
 bool blend_particles(DemState<1>& into, const DemState<1>& other, double theta) {
-  struct Field {
-    void* data;
-    std::size_t count;
-    bool real;
-  };
-  std::array<Field, 64> fields{};
-  std::size_t n = 0;
-  bool fits = true;
-  auto& source = const_cast<DemState<1>&>(other);  // only read
-  source.for_each_array([&](const char*, auto* data, auto count) {
-    if (n == fields.size()) {
-      fits = false;
-      return;
-    }
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    fields[n++] = {static_cast<void*>(data), static_cast<std::size_t>(count), std::is_same_v<T, double>};
-  });
-  if (!fits) return false;
   bool same = true;
-  std::size_t k = 0;
-  into.for_each_array([&](const char*, auto* data, auto count) {
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    const Field& f = fields[k++];
-    if (f.count != static_cast<std::size_t>(count)) same = false;
-    if constexpr (!std::is_same_v<T, double>) {
-      const T* o = static_cast<const T*>(f.data);
-      for (std::size_t i = 0; same && i < f.count; ++i) same = data[i] == o[i];
-    }
-  });
+  into.for_each_array(
+      [&](const char*, auto* data, auto count, auto o) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if (o.count != static_cast<std::size_t>(count)) same = false;
+        if constexpr (!std::is_same_v<T, double>)
+          for (std::size_t i = 0; same && i < o.count; ++i) same = data[i] == o.data[i];
+      },
+      other);
   if (!same) return false;
-  k = 0;
-  into.for_each_array([&](const char* name, auto* data, auto count) {
-    using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-    const Field& f = fields[k++];
-    if constexpr (std::is_same_v<T, double>) {
-      const double* o = static_cast<const double*>(f.data);
-      const bool bound = std::strcmp(name, "network_omega2") == 0 || std::strcmp(name, "energy_peak") == 0;
-      for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
-        if (data[i] == o[i]) continue;
-        data[i] = bound ? std::max(data[i], o[i]) : (1.0 - theta) * data[i] + theta * o[i];
-      }
-    }
-  });
+  into.for_each_array(
+      [&](const char* name, auto* data, auto count, auto o) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if constexpr (std::is_same_v<T, double>) {
+          const bool bound = std::strcmp(name, "network_omega2") == 0 || std::strcmp(name, "energy_peak") == 0;
+          for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
+            if (data[i] == o.data[i]) continue;
+            data[i] = bound ? std::max(data[i], o.data[i]) : (1.0 - theta) * data[i] + theta * o.data[i];
+          }
+        }
+      },
+      other);
   return true;
 }
 
@@ -352,7 +352,7 @@ StepStatus coupled_step(const CoupledModel& m, CoupledState& s, CoupledWorkspace
 
 StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
   if (!m.bar.built || m.dem.accelerations == nullptr) return StepStatus::not_built;
-  w.dem_start = s.dem;
+  copy_state(w.dem_start, s.dem);
   w.bar_start = s.bar;
   // A non-finite start is stepped once and reported, like a non-finite pass.
   StepStatus status = start_finite(m, s) ? StepStatus::ok : StepStatus::non_finite;
@@ -449,7 +449,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     if (have_lo && have_hi && std::fabs(hi - lo) <= resolution) {
       const double f_other = f == lo ? hi : lo;
       const double J_here = J;
-      w.dem_end = s.dem;  // same sizes: element-wise copies, no allocation
+      copy_state(w.dem_end, s.dem);
       status |= window_pass(m, s, w, f_other + carried, true, J);
       if (has(status, kStepNotTaken)) return status;
       ++passes;
@@ -492,7 +492,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     g_prev = g;
     f = f_next;
     if (passes == 1 && m.bar.linear_in_tip_force && first_affine) {
-      w.dem_first = s.dem;  // same sizes: element-wise copies, no allocation
+      copy_state(w.dem_first, s.dem);
       first_kept = true;
     }
     status |= window_pass(m, s, w, f + carried, true, J);
