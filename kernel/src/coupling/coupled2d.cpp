@@ -48,6 +48,35 @@ double contact_force(const DemModel<2>& dem, std::int32_t i, const PlateBoundary
                                   rate);
 }
 
+/// The contacts of disk i (centre, velocity v) with the boundary at
+/// `positions` (moving at the window's velocity): adds their force on the
+/// disk to total[2], each contact's −scale·F spread at its material point to
+/// the plate's unknowns in `plate`, and −scale·F·V (V the contact point's
+/// velocity) to `work`. Returns the number of contacts that carried a force.
+/// The one place the disk–boundary contact law is evaluated.
+int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w, const double* positions,
+                            std::int32_t i, const double centre[2], const double v[2], double scale, double total[2],
+                            double* plate, double& work) {
+  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+  const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[static_cast<std::size_t>(i)],
+                                            contacts);
+  int carried = 0;
+  for (int c = 0; c < count; ++c) {
+    double speed[2];
+    contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
+    const double fn = contact_force(m.dem, i, contacts[c], v, speed);
+    if (fn == 0.0) continue;
+    ++carried;
+    const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
+    total[0] += on_disk[0], total[1] += on_disk[1];
+    work -= scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
+    // The plate gets the opposite, at the contact's material point.
+    const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
+    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, plate);
+  }
+  return carried;
+}
+
 double norm(const std::vector<double>& x) {
   double s = 0;
   for (const double v : x) s += v * v;
@@ -88,21 +117,8 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
       const auto iu = static_cast<std::size_t>(i);
       const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
       const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
-      PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
-      const int count = plate_boundary_contacts(m.boundary, w.positions.data(), centre, m.dem.radius[iu], contacts);
       double total[2] = {0, 0};
-      for (int c = 0; c < count; ++c) {
-        double speed[2];
-        contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
-        const double fn = contact_force(m.dem, i, contacts[c], v, speed);
-        if (fn == 0.0) continue;
-        const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
-        total[0] += on_disk[0], total[1] += on_disk[1];
-        work -= h * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
-        // The plate gets the opposite impulse, at the contact's material point.
-        const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
-        plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, w.impulse.data());
-      }
+      boundary_contact_forces(m, w, w.positions.data(), i, centre, v, h, total, w.impulse.data(), work);
       s.dem.external_force[0][iu] = total[0];
       s.dem.external_force[1][iu] = total[1];
       impulse_taken[0] += h * total[0];
