@@ -77,6 +77,51 @@ int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w
   return carried;
 }
 
+/// The totals the DEM weighs for the hooked integrators (DemDesc::
+/// external_contact_totals), after its planes: the plate's force per unknown,
+/// then these.
+enum HookTotal : int { kForceX, kForceY, kWork, kContacts, kHookExtras };
+
+bool hooked(const Coupled2dModel& m) { return m.dem.features.external_contacts; }
+
+/// Where the hook's totals start in the DEM's plane ledger.
+std::size_t ledger_start(const Coupled2dModel& m) { return m.dem.plane_point.size(); }
+
+/// The DEM's external contact hook: the disks against the boundary where it
+/// is at the stage's time (lerped over the window), their force added to the
+/// accelerations, the plate's share (−F spread to its unknowns), their total
+/// force, −F·V and the number of contacts left in `totals` for the
+/// integrator's weights.
+std::uint64_t boundary_stage(void* context, double time, ConstColumns<2> x, ConstColumns<2> v, Columns<2> a,
+                             double* totals) {
+  Coupled2dWorkspace& w = *static_cast<Coupled2dWorkspace*>(context);
+  const Coupled2dModel& m = *w.stage_model;
+  Coupled2dState& s = *w.stage_state;
+  const auto dofs = static_cast<std::size_t>(m.plate.dofs);
+  std::fill(totals, totals + dofs + kHookExtras, 0.0);
+  boundary_at(w, (time - w.dem_start.time) / m.dt, w.positions.data());
+  double* extra = totals + dofs;
+  std::uint64_t tags = 0;
+  for (std::int32_t i = 0; i < m.dem.n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    const double centre[2] = {x[0][iu], x[1][iu]};
+    const double velocity[2] = {v[0][iu], v[1][iu]};
+    double total[2] = {0, 0};
+    const int carried =
+        boundary_contact_forces(m, w, w.positions.data(), i, centre, velocity, 1.0, total, totals, extra[kWork]);
+    s.boundary_force[0][iu] = total[0];
+    s.boundary_force[1][iu] = total[1];
+    if (carried == 0) continue;
+    a[0][iu] += total[0] * m.dem.inv_mass[iu];
+    a[1][iu] += total[1] * m.dem.inv_mass[iu];
+    extra[kForceX] += total[0];
+    extra[kForceY] += total[1];
+    extra[kContacts] += carried;
+    tags += (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull;
+  }
+  return tags;
+}
+
 double norm(const std::vector<double>& x) {
   double s = 0;
   for (const double v : x) s += v * v;
@@ -111,6 +156,19 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
   work = 0.0;
   const double h = m.dem.dt;
   const int n = m.substeps;
+  if (hooked(m)) {
+    // The DEM evaluates the boundary at its stages (boundary_stage) and
+    // weighs the plate's share as it weighs the forces.
+    const std::size_t start = ledger_start(m), dofs = w.impulse.size();
+    for (std::size_t k = start; k < s.dem.plane_impulse.size(); ++k) s.dem.plane_impulse[k] = 0.0;
+    for (int k = 0; k < n; ++k) status |= without(dem_step(m.dem, s.dem, w.dem), StepStatus::energy_growth);
+    const double* ledger = s.dem.plane_impulse.data() + start;
+    for (std::size_t k = 0; k < dofs; ++k) w.impulse[k] = ledger[k];
+    impulse_taken[0] = ledger[dofs + kForceX];
+    impulse_taken[1] = ledger[dofs + kForceY];
+    work = ledger[dofs + kWork];
+    return status;
+  }
   for (int k = 0; k < n; ++k) {
     boundary_at(w, static_cast<double>(k) / n, w.positions.data());
     for (std::int32_t i = 0; i < m.dem.n; ++i) {
@@ -140,11 +198,11 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     return BuildResult::failure(Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)", desc.dem_substeps);
   if (desc.plate.analysis != PlateDesc::Analysis::dynamic)
     return BuildResult::failure(Code::invalid_argument, "continuum.analysis: a coupled scene needs %s", "dynamic");
-  if (desc.dem.integrator != DemIntegrator::symplectic_euler)
+  if (desc.dem.integrator == DemIntegrator::abm4_events)
     return BuildResult::failure(Code::invalid_argument,
-                                "dem.integrator: %s is not supported against the plate yet: the boundary's forces are "
-                                "held over a substep, which is the integrator's own evaluation only for "
-                                "symplectic_euler",
+                                "dem.integrator: %s is not supported against the plate: its event location (frozen "
+                                "contact sets, bisection on their changes) does not see the boundary's contacts; use "
+                                "abm4, rk4, verlet or symplectic_euler",
                                 integrator_name(desc.dem.integrator));
   if (desc.dem.friction != 0.0 || desc.dem.rolling_friction != 0.0)
     return BuildResult::failure(Code::invalid_argument,
@@ -172,7 +230,13 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   }
   DemDesc<2> dem = desc.dem;
   dem.dt = plate.dt / desc.dem_substeps;
-  dem.external_forces = true;
+  // Symplectic Euler evaluates its forces once, at the substep's start: the
+  // boundary's force held over the substep is its own evaluation. The others
+  // evaluate at their stages: the boundary is evaluated there (boundary_stage).
+  const bool held = desc.dem.integrator == DemIntegrator::symplectic_euler;
+  dem.external_forces = held;
+  dem.external_contacts = !held;
+  dem.external_contact_totals = held ? 0 : m.plate.dofs + kHookExtras;
   dem.energy_check = kEnergyCheckOff;
   r = build_dem(dem, m.dem, s.dem, w.dem);
   if (!r.ok()) return BuildResult::failure(r.code, "dem.%s", r.message);
@@ -218,6 +282,8 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   w.start_positions.assign(coords, 0.0);
   w.end_positions.assign(coords, 0.0);
   w.positions.assign(coords, 0.0);
+  if (!held)
+    for (auto& f : s.boundary_force) f.assign(static_cast<std::size_t>(m.dem.n), 0.0);
   w.dem_start = s.dem;
   w.plate_start = s.plate;
   m.built = true;
@@ -226,6 +292,21 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
 
 StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
   if (!m.built) return StepStatus::not_built;
+  if (hooked(m)) {
+    // Installed at every step: the world may have been copied since.
+    w.dem.external_contacts = &boundary_stage;
+    w.dem.external_context = &w;
+    w.stage_model = &m;
+    w.stage_state = &s;
+    // The acceleration kept from the last window saw that window's boundary
+    // motion: while a disk touches the boundary, it is evaluated again with
+    // this window's, and a multistep history restarts, as the 1D stepper's
+    // moving top does (dem_drive_plane). At the first step it was evaluated
+    // without the boundary (build_dem).
+    const std::size_t touching = ledger_start(m) + static_cast<std::size_t>(m.plate.dofs) + kContacts;
+    if (s.step == 0 || s.dem.hist_plane_force[static_cast<std::size_t>(s.dem.history_head)][touching] != 0.0)
+      dem_inputs_changed(s.dem);
+  }
   w.dem_start = s.dem;
   w.plate_start = s.plate;
   plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.start_positions.data());
@@ -314,9 +395,11 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
 bool coupled2d_boundary_force(const Coupled2dModel& m, const Coupled2dState& s, std::int32_t i, double force[2]) {
   force[0] = force[1] = 0.0;
   if (i < 0 || i >= m.dem.n) return false;
-  // The step leaves each disk's boundary force as its external force input.
-  force[0] = s.dem.external_force[0][static_cast<std::size_t>(i)];
-  force[1] = s.dem.external_force[1][static_cast<std::size_t>(i)];
+  // Symplectic Euler: the step leaves each disk's boundary force as its
+  // external force input; the others: the hook's last evaluation.
+  const auto& source = hooked(m) ? s.boundary_force : s.dem.external_force;
+  force[0] = source[0][static_cast<std::size_t>(i)];
+  force[1] = source[1][static_cast<std::size_t>(i)];
   return true;
 }
 
