@@ -6,14 +6,19 @@
 // One coupled step advances the plate by dt and the disks by `dem_substeps`
 // substeps of h = dt/n. Within the window:
 //   - the disks see the plate's boundary (coupling/plate_boundary.hpp) move
-//     linearly from its place at t_n to its place at t_{n+1}; at the start
-//     of each substep every disk's contacts with it are found (closest point,
-//     one contact law: K = k_i, η = 2ζ√(k_i m_i), as against a plane), and
-//     their force is held over the substep as the disk's external force;
+//     linearly from its place at t_n to its place at t_{n+1}; their contacts
+//     with it (closest point, one contact law: K = k_i, η = 2ζ√(k_i m_i), as
+//     against a plane) are evaluated where the particle integrator evaluates
+//     its forces: symplectic Euler at the start of each substep, their force
+//     held over the substep as the disk's external force; abm4, rk4 and
+//     verlet at every stage, at the stage's time, through the DEM's external
+//     contact hook (DemDesc::external_contacts);
 //   - the plate receives, as a force held constant over its step, the
-//     impulse the disks took from it, each contact's h·F spread to its
-//     unknowns by the (enriched) shape functions at the contact point, over dt
-//     (its acceleration at t_n re-evaluated with that force, so that Newmark
+//     impulse the disks took from it, each contact's force spread to its
+//     unknowns by the (enriched) shape functions at the contact point and
+//     weighted as the integrator weighs that evaluation (h for symplectic
+//     Euler; the DEM's plane ledger for the others), over dt (its
+//     acceleration at t_n re-evaluated with that force, so that Newmark
 //     delivers exactly its impulse).
 // The two depend on each other: the window is iterated to the fixed point
 // f̄ = −J(f̄)/dt (a vector over the plate's unknowns) by Aitken-relaxed
@@ -23,9 +28,12 @@
 // moment: plate_spread_force), and at the fixed point both sides saw the same
 // boundary motion, so the exchange does no net work.
 //
-// Held forces are exactly the particle integrator's own evaluation for
-// symplectic Euler (forces at the start of the step), which this slice
-// requires.
+// With symplectic Euler the boundary's forces are held over each substep
+// (the integrator's own evaluation: forces at the start of the step); with
+// abm4, rk4 and verlet the DEM calls the boundary through its external-contact
+// hook (DemDesc::external_contacts) at every stage, and weighs the plate's
+// share as it weighs a plane's. abm4_events is refused (its event location
+// does not see the boundary's contacts).
 //
 // With friction or rolling resistance (or the hertz law) the disks rotate and
 // every disk–boundary contact is the DEM's particle–wall contact
@@ -40,7 +48,10 @@
 // of that chain whose normal is nearest the stored one: a disk slides across
 // the joints of a chain (a flat surface of many edges, a polygonal void's
 // vertices) with its spring, which the law turns into the new contact plane.
+// Rotating disks take symplectic Euler only (the rotating DEM step does not
+// call the hook).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -52,8 +63,9 @@
 namespace xfdem {
 
 struct Coupled2dDesc {
-  /// Disks: dt is set to plate.dt / dem_substeps; external_forces is set on,
-  /// and external_torques with friction, rolling friction or hertz.
+  /// Disks: dt is set to plate.dt / dem_substeps; external_forces
+  /// (symplectic_euler) or external_contacts (the others) is set on, and
+  /// external_torques with friction, rolling friction or hertz.
   DemDesc<2> dem;
   PlateDesc plate;  ///< dynamic analysis
   int dem_substeps = 10;
@@ -116,6 +128,10 @@ struct Coupled2dState {
   Coupled2dSprings springs;
   /// The force (N per unknown) the plate received over the last step.
   std::vector<double> coupling_force;
+  /// abm4, rk4, verlet: the boundary's force on each disk (x, y; N) at the
+  /// last force evaluation (empty for symplectic_euler, which holds it in
+  /// dem.external_force).
+  std::array<std::vector<double>, 2> boundary_force;
   /// Totals since the start: impulse (N·s, x and y) the disks took from the
   /// boundary, and that the plate received (its unknowns' shares, summed as a
   /// rigid translation sees them).
@@ -143,6 +159,10 @@ struct Coupled2dWorkspace {
   std::vector<double> impulse;  ///< the pass's impulse to the plate, per unknown
   std::vector<double> residual, previous_residual, best_force;
   double relaxation = 1;
+  /// What the DEM's external contact hook reads (set by each step; the
+  /// workspace is its context).
+  const Coupled2dModel* stage_model = nullptr;
+  Coupled2dState* stage_state = nullptr;
 };
 
 /// Builds both halves and the boundary; the only allocating call. Messages
@@ -154,8 +174,10 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& model, Co
 /// One plate step and its disk substeps. Never allocates.
 StepStatus coupled2d_step(const Coupled2dModel& model, Coupled2dState& state, Coupled2dWorkspace& workspace);
 
-/// Force (x, y; N) of the boundary on disk i that the last substep of the
-/// last step held (the sum of its contacts'); false for a bad index.
+/// Force (x, y; N) of the boundary on disk i (the sum of its contacts'):
+/// for symplectic_euler what the last substep of the last step held, for the
+/// others its last force evaluation (at the end of the step); false for a
+/// bad index.
 bool coupled2d_boundary_force(const Coupled2dModel& model, const Coupled2dState& state, std::int32_t particle,
                               double force[2]);
 

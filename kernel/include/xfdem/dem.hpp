@@ -167,6 +167,22 @@ struct DemDesc {
   /// (friction or rolling_friction > 0, or hertz). Off: no such term, and the
   /// state has no such field.
   bool external_torques = false;
+  /// Contacts the host evaluates itself (e.g. against a deforming boundary,
+  /// coupled2d.hpp): every force evaluation of the plain kernels calls
+  /// DemWorkspace::external_contacts, when set, with the evaluation's time
+  /// and state, after the planes and the pairs, and the host adds its
+  /// accelerations there: the integrator then evaluates them at each of its
+  /// stages, as a moving plane. The host also writes
+  /// `external_contact_totals` numbers of its own (e.g. the force each
+  /// unknown of a structure takes), which the step weighs as it weighs the
+  /// planes' forces (entries [planes, planes + totals) of
+  /// DemState::plane_impulse and the planes' history): their impulse is then
+  /// integrated with the integrator's own weights. Off: no call, no entries.
+  /// Not with abm4_events (its frozen contact sets and event tests do not see
+  /// the host's contacts), rotation (friction, rolling friction, hertz) or the
+  /// energy check (the host books the work of its contacts).
+  bool external_contacts = false;
+  std::int32_t external_contact_totals = 0;
   /// Refuse to build when dt exceeds the integrator's stable step for the
   /// stiffest contact (see dem_stable_step_factor). Tests of instability turn it off.
   bool reject_unstable_dt = true;
@@ -180,7 +196,7 @@ struct DemDesc {
   /// The energy balance check of dem_step() (DemState::energy).
   EnergyCheck energy_check;
   /// Few particles (at most 8) in one part with a fixed pair list (broad phase
-  /// none or all_pairs), any integrator but abm4_events: step them by the
+  /// none or all_pairs), any integrator but abm4_events, no external contacts: step them by the
   /// small-system step (DemModel::small_step), the general step's code
   /// instantiated for the scene's features, without its per-part loops and
   /// kernel calls through a pointer. Same bits either way; false forces the
@@ -228,6 +244,7 @@ struct DemFeatures {
   bool planes = false;
   bool external_forces = false;
   bool external_torques = false;
+  bool external_contacts = false;  ///< DemDesc::external_contacts
   /// Friction or rolling resistance: the particles rotate, contacts keep a
   /// tangential history, and the step is the granular one (dem/granular.cpp).
   bool rotation = false;
@@ -251,6 +268,15 @@ using ConstColumns = std::array<const double*, D>;
 template <int D>
 using AccelerationKernel = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, ConstColumns<D> x,
                                           ConstColumns<D> v, Columns<D> a);
+
+/// The host's contacts (DemDesc::external_contacts): adds their
+/// accelerations at the state (x, v) at `time` to a, writes the
+/// model's external_contact_totals numbers to totals, and returns the sum of
+/// tags of the contacts that carried a force (DemWorkspace::contact_signature;
+/// 0 if the host keeps none). Must not allocate, throw or lock.
+template <int D>
+using ExternalContacts = std::uint64_t (*)(void* context, double time, ConstColumns<D> x, ConstColumns<D> v,
+                                           Columns<D> a, double* totals);
 
 /// A whole step (DemModel::small_step).
 template <int D>
@@ -353,10 +379,12 @@ struct DemState {
   double plane_time = 0;
   /// Impulse the particles received from each plane (N·s along its normal)
   /// since the host last zeroed it, integrated with the integrator's own
-  /// weights: it equals the planes' share of Σ m Δv to round-off.
+  /// weights: it equals the planes' share of Σ m Δv to round-off. Followed
+  /// by the host's DemDesc::external_contact_totals, weighted alike.
   std::vector<double> plane_impulse;
-  /// Total normal force of each plane at the evaluations kept in the history
-  /// slots (same ring as hist_a), for the multistep weights.
+  /// Total normal force of each plane (and the host's totals) at the
+  /// evaluations kept in the history slots (same ring as hist_a), for the
+  /// multistep weights.
   std::array<std::vector<double>, 4> hist_plane_force;
   // Diagnostics (high-water marks and counters), part of the state so that
   // a replay reproduces them.
@@ -421,11 +449,16 @@ struct DemWorkspace {
   std::vector<double> plane_force_part;  ///< per part, per plane (parts × planes)
   /// Frozen contact set for abm4_events: start-of-interval state the kernels read.
   ConstColumns<D> mode_x{}, mode_v{};
+  /// The host's contacts and their context (DemDesc::external_contacts);
+  /// nullptr: none are evaluated. Set by the host between steps.
+  ExternalContacts<D> external_contacts = nullptr;
+  void* external_context = nullptr;
   /// Time of the state being evaluated (moving planes), set before each evaluation.
   double eval_time = 0;
   /// Time of the frozen start-of-interval state (abm4_events).
   double mode_time = 0;
-  /// Total normal force of each plane on the particles at the last evaluation (N).
+  /// Total normal force of each plane on the particles at the last
+  /// evaluation (N), then the host's external_contact_totals.
   std::vector<double> plane_force;
   std::vector<double> plane_force0;    ///< at (x0, v0) (abm4_events)
   std::vector<double> plane_weighted;  ///< Σ weights · force of the step being built

@@ -49,6 +49,82 @@ double contact_force(const DemModel<2>& dem, std::int32_t i, const PlateBoundary
                                   rate);
 }
 
+/// The contacts of disk i (centre, velocity v) with the boundary at
+/// `positions` (moving at the window's velocity): adds their force on the
+/// disk to total[2], each contact's −scale·F spread at its material point to
+/// the plate's unknowns in `plate`, and −scale·F·V (V the contact point's
+/// velocity) to `work`. Returns the number of contacts that carried a force.
+/// The frictionless disk–boundary contact (the plane's normal law), for the
+/// held substeps and the hooked stages alike; rotating disks take the wall
+/// contact in disk_contacts.
+int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w, const double* positions,
+                            std::int32_t i, const double centre[2], const double v[2], double scale, double total[2],
+                            double* plate, double& work) {
+  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+  const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[static_cast<std::size_t>(i)],
+                                            contacts);
+  int carried = 0;
+  for (int c = 0; c < count; ++c) {
+    double speed[2];
+    contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
+    const double fn = contact_force(m.dem, i, contacts[c], v, speed);
+    if (fn == 0.0) continue;
+    ++carried;
+    const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
+    total[0] += on_disk[0], total[1] += on_disk[1];
+    work -= scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
+    // The plate gets the opposite, at the contact's material point.
+    const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
+    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, plate);
+  }
+  return carried;
+}
+
+/// The totals the DEM weighs for the hooked integrators (DemDesc::
+/// external_contact_totals), after its planes: the plate's force per unknown,
+/// then these.
+enum HookTotal : int { kForceX, kForceY, kWork, kContacts, kHookExtras };
+
+bool hooked(const Coupled2dModel& m) { return m.dem.features.external_contacts; }
+
+/// Where the hook's totals start in the DEM's plane ledger.
+std::size_t ledger_start(const Coupled2dModel& m) { return m.dem.plane_point.size(); }
+
+/// The DEM's external contact hook: the disks against the boundary where it
+/// is at the stage's time (lerped over the window), their force added to the
+/// accelerations, the plate's share (−F spread to its unknowns), their total
+/// force, −F·V and the number of contacts left in `totals` for the
+/// integrator's weights.
+std::uint64_t boundary_stage(void* context, double time, ConstColumns<2> x, ConstColumns<2> v, Columns<2> a,
+                             double* totals) {
+  Coupled2dWorkspace& w = *static_cast<Coupled2dWorkspace*>(context);
+  const Coupled2dModel& m = *w.stage_model;
+  Coupled2dState& s = *w.stage_state;
+  const auto dofs = static_cast<std::size_t>(m.plate.dofs);
+  std::fill(totals, totals + dofs + kHookExtras, 0.0);
+  boundary_at(w, (time - w.dem_start.time) / m.dt, w.positions.data());
+  double* extra = totals + dofs;
+  std::uint64_t tags = 0;
+  for (std::int32_t i = 0; i < m.dem.n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    const double centre[2] = {x[0][iu], x[1][iu]};
+    const double velocity[2] = {v[0][iu], v[1][iu]};
+    double total[2] = {0, 0};
+    const int carried =
+        boundary_contact_forces(m, w, w.positions.data(), i, centre, velocity, 1.0, total, totals, extra[kWork]);
+    s.boundary_force[0][iu] = total[0];
+    s.boundary_force[1][iu] = total[1];
+    if (carried == 0) continue;
+    a[0][iu] += total[0] * m.dem.inv_mass[iu];
+    a[1][iu] += total[1] * m.dem.inv_mass[iu];
+    extra[kForceX] += total[0];
+    extra[kForceY] += total[1];
+    extra[kContacts] += carried;
+    tags += (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull;
+  }
+  return tags;
+}
+
 double norm(const std::vector<double>& x) {
   double s = 0;
   for (const double v : x) s += v * v;
@@ -108,25 +184,14 @@ void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspac
   const auto iu = static_cast<std::size_t>(i);
   const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
   const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
-  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
-  const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[iu], contacts);
   total[0] = total[1] = 0.0;
   torque = 0.0;
   if (!m.rotating) {
-    for (int c = 0; c < count; ++c) {
-      double speed[2];
-      contact_velocity(m.boundary, w, contacts[c], m.dt, speed);
-      const double fn = contact_force(m.dem, i, contacts[c], v, speed);
-      if (fn == 0.0) continue;
-      const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
-      total[0] += on_disk[0], total[1] += on_disk[1];
-      work -= h * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
-      // The plate gets the opposite impulse, at the contact's material point.
-      const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
-      plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, w.impulse.data());
-    }
+    boundary_contact_forces(m, w, positions, i, centre, v, h, total, w.impulse.data(), work);
     return;
   }
+  PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+  const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[iu], contacts);
   // The disk's springs: a contact takes the stored one of its chain whose
   // normal is nearest its own (within 60°, the contact finder's separation).
   constexpr int K = kPlateBoundaryMaxContacts;
@@ -209,6 +274,19 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
   work = 0.0;
   const double h = m.dem.dt;
   const int n = m.substeps;
+  if (hooked(m)) {
+    // The DEM evaluates the boundary at its stages (boundary_stage) and
+    // weighs the plate's share as it weighs the forces.
+    const std::size_t start = ledger_start(m), dofs = w.impulse.size();
+    for (std::size_t k = start; k < s.dem.plane_impulse.size(); ++k) s.dem.plane_impulse[k] = 0.0;
+    for (int k = 0; k < n; ++k) status |= without(dem_step(m.dem, s.dem, w.dem), StepStatus::energy_growth);
+    const double* ledger = s.dem.plane_impulse.data() + start;
+    for (std::size_t k = 0; k < dofs; ++k) w.impulse[k] = ledger[k];
+    impulse_taken[0] = ledger[dofs + kForceX];
+    impulse_taken[1] = ledger[dofs + kForceY];
+    work = ledger[dofs + kWork];
+    return status;
+  }
   for (int k = 0; k < n; ++k) {
     boundary_at(w, static_cast<double>(k) / n, w.positions.data());
     for (std::int32_t i = 0; i < m.dem.n; ++i) {
@@ -239,18 +317,19 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     return BuildResult::failure(Code::invalid_argument, "continuum.analysis: a coupled scene needs %s", "dynamic");
   const bool rotating = desc.dem.friction > 0 || desc.dem.rolling_friction > 0 || desc.dem.law == ContactLaw::hertz;
   // The disk–boundary springs advance once per substep, at its start: other
-  // integrators' stages would need them evaluated per stage, kept at the end.
+  // integrators' stages would need them evaluated per stage, kept at the end
+  // (and the rotating DEM step does not call the external-contact hook).
   if (rotating && desc.dem.integrator != DemIntegrator::symplectic_euler)
     return BuildResult::failure(Code::invalid_argument,
                                 "dem.integrator: %s cannot carry friction, rolling friction or the hertz law against "
                                 "the plate: the disk-boundary tangential springs are advanced once per substep at its "
                                 "start, which is symplectic_euler's evaluation",
                                 integrator_name(desc.dem.integrator));
-  if (desc.dem.integrator != DemIntegrator::symplectic_euler)
+  if (desc.dem.integrator == DemIntegrator::abm4_events)
     return BuildResult::failure(Code::invalid_argument,
-                                "dem.integrator: %s is not supported against the plate yet: the boundary's forces are "
-                                "held over a substep, which is the integrator's own evaluation only for "
-                                "symplectic_euler",
+                                "dem.integrator: %s is not supported against the plate: its event location (frozen "
+                                "contact sets, bisection on their changes) does not see the boundary's contacts; use "
+                                "abm4, rk4, verlet or symplectic_euler",
                                 integrator_name(desc.dem.integrator));
   if (desc.dem.law == ContactLaw::hertz)
     for (const PlateDiscontinuity& q : desc.plate.discontinuities)
@@ -277,8 +356,14 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   }
   DemDesc<2> dem = desc.dem;
   dem.dt = plate.dt / desc.dem_substeps;
-  dem.external_forces = true;
+  // Symplectic Euler evaluates its forces once, at the substep's start: the
+  // boundary's force held over the substep is its own evaluation. The others
+  // evaluate at their stages: the boundary is evaluated there (boundary_stage).
+  const bool held = desc.dem.integrator == DemIntegrator::symplectic_euler;
+  dem.external_forces = held;
   dem.external_torques = rotating;
+  dem.external_contacts = !held;
+  dem.external_contact_totals = held ? 0 : m.plate.dofs + kHookExtras;
   dem.energy_check = kEnergyCheckOff;
   r = build_dem(dem, m.dem, s.dem, w.dem);
   if (!r.ok()) return BuildResult::failure(r.code, "dem.%s", r.message);
@@ -350,6 +435,8 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   w.start_positions.assign(coords, 0.0);
   w.end_positions.assign(coords, 0.0);
   w.positions.assign(coords, 0.0);
+  if (!held)
+    for (auto& f : s.boundary_force) f.assign(static_cast<std::size_t>(m.dem.n), 0.0);
   w.dem_start = s.dem;
   w.plate_start = s.plate;
   m.built = true;
@@ -358,6 +445,21 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
 
 StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
   if (!m.built) return StepStatus::not_built;
+  if (hooked(m)) {
+    // Installed at every step: the world may have been copied since.
+    w.dem.external_contacts = &boundary_stage;
+    w.dem.external_context = &w;
+    w.stage_model = &m;
+    w.stage_state = &s;
+    // The acceleration kept from the last window saw that window's boundary
+    // motion: while a disk touches the boundary, it is evaluated again with
+    // this window's, and a multistep history restarts, as the 1D stepper's
+    // moving top does (dem_drive_plane). At the first step it was evaluated
+    // without the boundary (build_dem).
+    const std::size_t touching = ledger_start(m) + static_cast<std::size_t>(m.plate.dofs) + kContacts;
+    if (s.step == 0 || s.dem.hist_plane_force[static_cast<std::size_t>(s.dem.history_head)][touching] != 0.0)
+      dem_inputs_changed(s.dem);
+  }
   w.dem_start = s.dem;
   w.plate_start = s.plate;
   if (m.rotating) w.springs_start = s.springs;
@@ -447,9 +549,11 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
 bool coupled2d_boundary_force(const Coupled2dModel& m, const Coupled2dState& s, std::int32_t i, double force[2]) {
   force[0] = force[1] = 0.0;
   if (i < 0 || i >= m.dem.n) return false;
-  // The step leaves each disk's boundary force as its external force input.
-  force[0] = s.dem.external_force[0][static_cast<std::size_t>(i)];
-  force[1] = s.dem.external_force[1][static_cast<std::size_t>(i)];
+  // Symplectic Euler: the step leaves each disk's boundary force as its
+  // external force input; the others: the hook's last evaluation.
+  const auto& source = hooked(m) ? s.boundary_force : s.dem.external_force;
+  force[0] = source[0][static_cast<std::size_t>(i)];
+  force[1] = source[1][static_cast<std::size_t>(i)];
   return true;
 }
 

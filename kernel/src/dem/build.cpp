@@ -360,11 +360,13 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   }
   for (auto* c : {&w.xs, &w.vs, &w.as, &w.sum_x, &w.sum_v, &w.x0, &w.v0, &w.a0, &w.x1, &w.v1}) size_columns<D>(*c, un);
   const std::size_t planes = desc.planes.size();
+  // The impulse ledger: the planes, then the host's totals (DemDesc::external_contacts).
+  const std::size_t ledger = planes + static_cast<std::size_t>(desc.external_contact_totals);
   s.plane_offset.assign(planes, 0.0);
   s.plane_speed.assign(planes, 0.0);
-  s.plane_impulse.assign(planes, 0.0);
-  for (auto& f : s.hist_plane_force) f.assign(planes, 0.0);
-  for (auto* v : {&w.plane_force, &w.plane_force0, &w.plane_weighted, &w.plane_step_impulse}) v->assign(planes, 0.0);
+  s.plane_impulse.assign(ledger, 0.0);
+  for (auto& f : s.hist_plane_force) f.assign(ledger, 0.0);
+  for (auto* v : {&w.plane_force, &w.plane_force0, &w.plane_weighted, &w.plane_step_impulse}) v->assign(ledger, 0.0);
   w.plane_force_part.assign(2 * planes, 0.0);
   size_columns<D>(w.cross, static_cast<std::size_t>(m.n - m.split));
   if (m.features.broad_phase == BroadPhase::grid) {
@@ -581,6 +583,26 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                 D);
   if (desc.split_from < 0)
     return BuildResult::failure(Code::invalid_argument, "split_from: must be >= 0 (got %d)", desc.split_from);
+  if (desc.external_contact_totals < 0 || desc.external_contact_totals > 100'000'000 ||
+      (desc.external_contact_totals > 0 && !desc.external_contacts))
+    return BuildResult::failure(Code::invalid_argument,
+                                "external_contact_totals: must be in [0, 1e8], and 0 without external_contacts (got %d)",
+                                desc.external_contact_totals);
+  if (desc.external_contacts) {
+    if (desc.integrator == DemIntegrator::abm4_events)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "integrator: %s cannot take external contacts: its frozen contact sets and event "
+                                  "tests do not see them (use abm4, rk4, verlet or symplectic_euler)",
+                                  integrator_name(desc.integrator));
+    if (rotates(desc))
+      return BuildResult::failure(Code::invalid_argument,
+                                  "external_contacts: not with friction, rolling friction or the hertz law (the "
+                                  "rotating step does not call them)");
+    if (desc.energy_check.interval > 0)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "energy_check: the work of external contacts is the host's to book; turn the "
+                                  "particles' check off (interval 0) and check the energy in the host");
+  }
 
   // ---- sizes, and what they take, before anything is allocated ----------------
   const dem_detail::ResolvedSizes sizes = dem_detail::resolve_sizes(desc);
@@ -609,6 +631,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   m.features.planes = !desc.planes.empty();
   m.features.external_forces = desc.external_forces;
   m.features.external_torques = desc.external_torques;
+  m.features.external_contacts = desc.external_contacts;
   m.features.broad_phase = sizes.broad_phase;
   m.features.rotation = rotates(desc);
   m.friction = desc.friction;

@@ -309,11 +309,24 @@ inline void input_accelerations(const DemModel<D>& m, const DemState<D>& s, Colu
   }
 }
 
+/// The host's contacts (DemDesc::external_contacts), on the whole state, its
+/// totals after the planes' in w.plane_force: the last thing the general
+/// kernel's evaluation does, when m.features.external_contacts. (The
+/// small-system step, whose kernel is inlined, is not taken for such models,
+/// so that it does no work for them.)
+template <int D>
+[[gnu::noinline, gnu::cold]] std::uint64_t external_contacts(const DemModel<D>& m, DemWorkspace<D>& w,
+                                                             ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) {
+  if (w.external_contacts == nullptr) return 0;
+  return w.external_contacts(w.external_context, w.eval_time, x, v, a, w.plane_force.data() + m.plane_point.size());
+}
+
 /// Plain-mode evaluation of a model in one part: inputs, planes (totals into
 /// w.plane_force), pairs (the grid's list rebuilt first if it is stale), in
-/// this order. The general kernel below runs it through its pointer; the
-/// small-system step (integrators.cpp) inlines it, with its particle count N
-/// (particle_count) known at compile time.
+/// this order (the general kernel then adds the host's contacts). The
+/// general kernel below runs it through its pointer; the small-system step
+/// (integrators.cpp) inlines it, with its particle count N (particle_count)
+/// known at compile time.
 template <int D, bool Gravity, bool Damped, bool NonTensile, int N = 0>
 [[gnu::always_inline]] inline StepStatus one_part_accelerations(const DemModel<D>& m, DemState<D>& s,
                                                                 DemWorkspace<D>& w, ConstColumns<D> x,
@@ -346,7 +359,11 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   if constexpr (!Frozen) {
     const bool grid = m.features.broad_phase == BroadPhase::grid;
     const std::size_t planes = m.plane_point.size();
-    if (m.parts == 1) return one_part_accelerations<D, Gravity, Damped, NonTensile>(m, s, w, x, v, a);
+    if (m.parts == 1) {
+      const StepStatus status = one_part_accelerations<D, Gravity, Damped, NonTensile>(m, s, w, x, v, a);
+      if (m.features.external_contacts) fold_contacts(w.contact_signature, external_contacts<D>(m, w, x, v, a));
+      return status;
+    }
     // Two parts: particles [0, split) and [split, n). Phase 1: each part's
     // gravity, plane contacts (totals per part) and displacement check.
     bool moved[2] = {false, false};
@@ -361,6 +378,7 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
     for (std::size_t p = 0; p < planes; ++p) w.plane_force[p] = w.plane_force_part[p] + w.plane_force_part[planes + p];
     std::uint64_t carried = active[0] + active[1];
     if (m.features.broad_phase == BroadPhase::none) {
+      if (m.features.external_contacts) carried += external_contacts<D>(m, w, x, v, a);
       fold_contacts(w.contact_signature, carried);
       return StepStatus::ok;
     }
@@ -388,10 +406,11 @@ StepStatus accelerations(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
             pair_forces<D, Damped, NonTensile>(m, s, x, v, a, boundary, s.pair_count, n, cross, active[1]);
       }
     });
-    fold_contacts(w.contact_signature, carried + active[0] + active[1]);
     // Phase 3: part 0's contributions to part 1's particles, in a fixed order.
     for (int d = 0; d < D; ++d)
       for (std::int32_t j = m.split; j < n; ++j) a[d][j] += cross[d][j - m.split];
+    if (m.features.external_contacts) carried += external_contacts<D>(m, w, x, v, a);
+    fold_contacts(w.contact_signature, carried + active[0] + active[1]);
     return part_status[0] | part_status[1];
   }
   gravity(0, n);

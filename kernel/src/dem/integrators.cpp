@@ -679,8 +679,10 @@ namespace dem_detail {
 
 template <int D>
 StepFunction<D> select_small_step(const DemModel<D>& m) {
+  // External contacts are called by the general kernel only (forces.hpp):
+  // the small-system step stays exactly what it is without them.
   if (m.n > kSmallSystem || m.parts != 1 || m.features.broad_phase == BroadPhase::grid ||
-      m.integrator == DemIntegrator::abm4_events)
+      m.integrator == DemIntegrator::abm4_events || m.features.external_contacts)
     return nullptr;
   // One and two particles (V1, Cases I and II) get their count compiled in;
   // 3..kSmallSystem share the instantiation that reads it.

@@ -117,6 +117,9 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
   const dem_detail::ResolvedSizes r = dem_detail::resolve_sizes(desc);
   const auto n = static_cast<std::uint64_t>(desc.particles.size());
   const auto planes = static_cast<std::uint64_t>(desc.planes.size());
+  // The host's totals of external contacts: entries of the planes' impulse and
+  // history (state) and of their evaluation, start, weighted and step sums (workspace).
+  const auto totals = static_cast<std::uint64_t>(std::max(desc.external_contact_totals, 0));
   constexpr std::uint64_t d = D, real = sizeof(double), index = sizeof(std::int32_t);
   DemMemory m;
   m.pairs = r.max_pairs;
@@ -127,10 +130,11 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
   // 2D external_torque, when on);
   // the pair list; each plane's offset, speed, impulse and four history forces.
   m.state = (3 + 8 + (desc.external_forces ? 1 : 0)) * d * n * real + (desc.external_torques ? n * real : 0) +
-            static_cast<std::uint64_t>(r.max_pairs) * DemMemory::kBytesPerPair + 7 * planes * real;
+            static_cast<std::uint64_t>(r.max_pairs) * DemMemory::kBytesPerPair + 7 * planes * real + 5 * totals * real;
   // Workspace: ten stage columns, part 0's cross buffer, the planes' forces
   // (four per plane and two parts' shares), the grid's index, the network bound.
   m.workspace = 10 * d * n * real + d * (n - static_cast<std::uint64_t>(r.split)) * real + 6 * planes * real +
+                4 * totals * real +
                 n * (d * (d + 1) / 2) * real;
   if (r.broad_phase == BroadPhase::grid)
     m.workspace += static_cast<std::uint64_t>(r.max_cells + 1) * DemMemory::kBytesPerGridCell + 2 * n * index;
