@@ -43,8 +43,9 @@ constexpr std::uint64_t fnv1a(const std::byte* data, std::size_t bytes, std::uin
 // ---- a uniform visitor over every state --------------------------------------
 
 /// Calls visit(part, name, data, count) for every field of the state, in a fixed
-/// order: `part` is "" for a DemState or BarState on its own, and "dem", "bar"
-/// or "" (its own scalars) inside a CoupledState; `data` points at `count`
+/// order: `part` is "" for a DemState, BarState or PlateState on its own,
+/// "dem", "bar" or "" (its own scalars) inside a CoupledState, and "dem",
+/// "plate", "springs" or "" inside a Coupled2dState; `data` points at `count`
 /// elements of double, std::int64_t or std::int32_t. A name repeats when an
 /// array has one column per axis or slot ("x" D times, "hist_v" 4·D times).
 template <int D, class Visitor>
