@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/coupled2d_scenes.hpp"
+#include "support/state_compare.hpp"
 #include "xfdem/coupled2d.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/platform/worker_pool.hpp"
@@ -24,6 +25,8 @@ namespace xfdem {
 namespace {
 
 using Bytes = std::vector<std::byte>;
+using xfdem::testing::expect_bitwise_equal;
+using xfdem::testing::first_differing_field;
 using xfdem::testing::disk;
 
 /// The cracked free plate (2 m × 1 m, 8 × 4 cells, a crack across it) and
@@ -62,25 +65,6 @@ Coupled2dDesc cracked_plate_hit_hertz() {
   d.dem.tangential_stiffness_ratio = 0;  // Mindlin's
   for (auto& p : d.dem.particles) p.youngs_modulus = 7e10, p.poisson_ratio = 0.3, p.stiffness = 0;
   return d;
-}
-
-/// Which field of two states differs first (by field hash), or "" when none.
-std::string first_differing_field(const Coupled2dState& a, const Coupled2dState& b) {
-  std::vector<std::uint64_t> ha(field_count(a)), hb(field_count(b));
-  field_hashes(a, ha);
-  field_hashes(b, hb);
-  char name[128];
-  for (std::size_t k = 0; k < ha.size() && k < hb.size(); ++k)
-    if (ha[k] != hb[k]) return field_name(a, k, name, sizeof(name));
-  return ha.size() == hb.size() ? "" : "(field count)";
-}
-
-void expect_bitwise_equal(const Coupled2dState& a, const Coupled2dState& b, const std::string& what) {
-  EXPECT_EQ(state_hash(a), state_hash(b)) << what << ": first differing field " << first_differing_field(a, b);
-  Bytes sa(snapshot_size(a)), sb(snapshot_size(b));
-  ASSERT_TRUE(save_snapshot(a, sa).ok());
-  ASSERT_TRUE(save_snapshot(b, sb).ok());
-  EXPECT_TRUE(sa == sb) << what << ": snapshots differ; first differing field " << first_differing_field(a, b);
 }
 
 /// Steps `world` n times; every status must be the one `statuses` recorded
