@@ -368,12 +368,26 @@ INSTANTIATE_TEST_SUITE_P(
                           "scene key 'energy_check': not used by particles against the plate (the coupled 2D step has "
                           "no energy check yet)"}));
 
-// Snapshots and replay are not there yet for a coupled 2D scene: refused, not run as particles alone.
-TEST(Coupled2dCli, ReplayIsRefusedNamingTheKey) {
-  const Result r = run("replay record " + scene("coupled2d_case1_xfem.json") + " --steps 3 --out " +
-                       (scratch() / "never.hashes").string());
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("scene key 'dem': snapshots and replay of particles against a plate are not supported yet"),
-            std::string::npos)
-      << r.err;
+// `xfdem replay` of a coupled 2D scene with friction and rolling resistance:
+// the per-step hashes of the whole coupled state (the disks' rotation, the
+// contacts' springs, the plate, the exchange's books) are the same on a
+// second run, and another friction coefficient is caught at the first step
+// whose state differs, naming a field.
+TEST(Coupled2dCli, ReplayRecordsAndChecksTheCoupledState) {
+  auto with = [](const char* friction) {
+    return scene("coupled2d_free_plate.json") + " --set dem.contact.friction=" + friction +
+           " --set dem.contact.rolling_friction=0.02";
+  };
+  const std::string sc = with("0.5");
+  const std::string hashes = (scratch() / "free_plate.hashes").string();
+  const Result rec = run("replay record " + sc + " --out " + hashes);
+  ASSERT_EQ(rec.exit_code, 0) << rec.err << rec.out;
+  EXPECT_NE(rec.out.find("recorded 600 steps of coupled2d_free_plate"), std::string::npos) << rec.out;
+  const Result same = run("replay check " + sc + " --against " + hashes);
+  EXPECT_EQ(same.exit_code, 0) << same.err << same.out;
+  EXPECT_NE(same.out.find("identical, 600 steps"), std::string::npos) << same.out;
+  const Result other = run("replay check " + with("0.4") + " --against " + hashes);
+  EXPECT_EQ(other.exit_code, 1) << other.err << other.out;
+  EXPECT_NE(other.out.find("first difference at step "), std::string::npos) << other.out;
+  EXPECT_NE(other.out.find(": field "), std::string::npos) << other.out;
 }

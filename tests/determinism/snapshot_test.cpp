@@ -12,6 +12,7 @@
 
 #include "scene/scene.hpp"
 #include "scene/scene_world.hpp"
+#include "support/state_compare.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/state_io.hpp"
 
@@ -19,6 +20,8 @@ namespace xfdem {
 namespace {
 
 using Bytes = std::vector<std::byte>;
+using xfdem::testing::expect_bitwise_equal;
+using xfdem::testing::first_differing_field;
 
 // ---- a 2D DEM scene that uses every part of the state ------------------------------
 
@@ -53,29 +56,6 @@ DemDesc<2> disks(DemIntegrator integrator) {
   d.dt = 0.5 * m.stable_dt;
   d.reject_unstable_dt = true;
   return d;
-}
-
-/// Which field of two states differs first (by field hash), or "" when none.
-template <class State>
-std::string first_differing_field(const State& a, const State& b) {
-  std::vector<std::uint64_t> ha(field_count(a)), hb(field_count(b));
-  field_hashes(a, ha);
-  field_hashes(b, hb);
-  char name[128];
-  for (std::size_t k = 0; k < ha.size() && k < hb.size(); ++k)
-    if (ha[k] != hb[k]) return field_name(a, k, name, sizeof(name));
-  return ha.size() == hb.size() ? "" : "(field count)";
-}
-
-/// Every array of a and b equal bit for bit: the snapshot payloads are the raw
-/// bytes of every field.
-template <class State>
-void expect_bitwise_equal(const State& a, const State& b, const std::string& what) {
-  EXPECT_EQ(state_hash(a), state_hash(b)) << what << ": first differing field " << first_differing_field(a, b);
-  Bytes sa(snapshot_size(a)), sb(snapshot_size(b));
-  ASSERT_TRUE(save_snapshot(a, sa).ok());
-  ASSERT_TRUE(save_snapshot(b, sb).ok());
-  EXPECT_TRUE(sa == sb) << what << ": snapshots differ; first differing field " << first_differing_field(a, b);
 }
 
 template <int D>

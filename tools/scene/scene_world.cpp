@@ -4,6 +4,7 @@
 #include <variant>
 
 #include "xfdem/coupled.hpp"
+#include "xfdem/coupled2d.hpp"
 
 namespace xfdem::scene {
 namespace {
@@ -25,7 +26,7 @@ struct PlateWorld {
 }  // namespace
 
 struct SceneWorld::Impl {
-  std::variant<DemWorld<1>, DemWorld<2>, DemWorld<3>, BarWorld, CoupledWorld, PlateWorld> world;
+  std::variant<DemWorld<1>, DemWorld<2>, DemWorld<3>, BarWorld, CoupledWorld, PlateWorld, Coupled2dWorld> world;
 
   template <class F>
   auto with_state(F&& f) {
@@ -35,10 +36,11 @@ struct SceneWorld::Impl {
 
 SceneWorld::SceneWorld(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   auto& world = impl_->world;
-  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem))
-    throw SceneError("scene key 'dem': snapshots and replay of particles against a plate are not supported yet "
-                     "(xfdem run runs them)");
-  if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
+  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem)) {
+    auto& w = world.emplace<Coupled2dWorld>();
+    const BuildResult built = w.build(coupled2d_desc(scene));
+    if (!built.ok()) throw build_refusal(scene, Built::coupled, built);
+  } else if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     auto& w = world.emplace<CoupledWorld>();
     const BuildResult built = w.build(coupled_desc(scene));
     if (!built.ok()) throw build_refusal(scene, Built::coupled, built);

@@ -1,5 +1,5 @@
 // One world built from a loaded scene, whatever it holds (particles in 1, 2 or
-// 3 D, a bar, or both coupled), with the state-io calls of xfdem/state_io.hpp
+// 3 D, a bar or a plate, or particles coupled to either), with the state-io calls of xfdem/state_io.hpp
 // behind one interface. Used by `xfdem replay` and the determinism tests.
 #pragma once
 #include <cstddef>

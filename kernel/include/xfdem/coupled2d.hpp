@@ -52,6 +52,7 @@
 // call the hook).
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -147,6 +148,33 @@ struct Coupled2dState {
   double worst_unsettled = 0;
   std::int64_t step = 0;
   double time = 0;
+
+  /// The state's one field list (state_io.hpp hashes, saves, restores and
+  /// names what it lists): visit(part, name, data, count) for the disks
+  /// ("dem"), the plate ("plate"), the springs ("springs"; no elements
+  /// unless the disks rotate), then the exchange's own fields (""). The
+  /// workspace carries nothing from one step to the next.
+  template <class Visitor>
+  void for_each_field(Visitor&& visit) {
+    dem.for_each_array(
+        [&](const char* name, auto* data, auto count) { visit("dem", name, data, static_cast<std::size_t>(count)); });
+    plate.for_each_field([&](const char* name, auto* data, std::size_t count) { visit("plate", name, data, count); });
+    visit("springs", "chain", springs.chain.data(), springs.chain.size());
+    visit("springs", "normal", springs.normal.data(), springs.normal.size());
+    visit("springs", "xi", springs.xi.data(), springs.xi.size());
+    visit("", "coupling_force", coupling_force.data(), coupling_force.size());
+    for (auto& f : boundary_force) visit("", "boundary_force", f.data(), f.size());
+    visit("", "impulse_to_particles", impulse_to_particles, std::size_t{2});
+    visit("", "impulse_to_plate", impulse_to_plate, std::size_t{2});
+    visit("", "work_on_plate", &work_on_plate, std::size_t{1});
+    visit("", "work_by_particles", &work_by_particles, std::size_t{1});
+    visit("", "last_passes", &last_passes, std::size_t{1});
+    visit("", "peak_passes", &peak_passes, std::size_t{1});
+    visit("", "unsettled_windows", &unsettled_windows, std::size_t{1});
+    visit("", "worst_unsettled", &worst_unsettled, std::size_t{1});
+    visit("", "step", &step, std::size_t{1});
+    visit("", "time", &time, std::size_t{1});
+  }
 };
 
 struct Coupled2dWorkspace {

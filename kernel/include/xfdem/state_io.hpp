@@ -1,5 +1,5 @@
 // State hashing and snapshots, for every kind of state the kernel steps:
-// DemState<1|2|3>, BarState and CoupledState.
+// DemState<1|2|3>, BarState, PlateState, CoupledState and Coupled2dState.
 //
 //   state_hash(state)                 64-bit FNV-1a over the raw bits of every field, in visitor order
 //   field_hashes(state, out)          one FNV-1a per field (a replay names the first field that differs)
@@ -7,7 +7,8 @@
 //   restore_snapshot(state, buffer)   validated copy back; a refused snapshot leaves the state untouched
 //
 // The fields are the ones the states' own visitors list (DemState::for_each_array,
-// BarState::for_each_field, and for_each_field(CoupledState&) below), so a field
+// BarState::for_each_field, PlateState::for_each_field, Coupled2dState::for_each_field,
+// and for_each_field(CoupledState&) below), so a field
 // added to a visitor is hashed, saved, restored and named without further code.
 // Hash, save and restore never allocate and never throw; the file helpers at the
 // end are for tools and do allocate. docs/determinism.md gives the format, the
@@ -20,6 +21,7 @@
 #include "xfdem/bar.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/coupled.hpp"
+#include "xfdem/coupled2d.hpp"
 #include "xfdem/dem.hpp"
 
 namespace xfdem {
@@ -41,8 +43,9 @@ constexpr std::uint64_t fnv1a(const std::byte* data, std::size_t bytes, std::uin
 // ---- a uniform visitor over every state --------------------------------------
 
 /// Calls visit(part, name, data, count) for every field of the state, in a fixed
-/// order: `part` is "" for a DemState or BarState on its own, and "dem", "bar"
-/// or "" (its own scalars) inside a CoupledState; `data` points at `count`
+/// order: `part` is "" for a DemState, BarState or PlateState on its own,
+/// "dem", "bar" or "" (its own scalars) inside a CoupledState, and "dem",
+/// "plate", "springs" or "" inside a Coupled2dState; `data` points at `count`
 /// elements of double, std::int64_t or std::int32_t. A name repeats when an
 /// array has one column per axis or slot ("x" D times, "hist_v" 4·D times).
 template <int D, class Visitor>
@@ -83,6 +86,13 @@ void for_each_field(CoupledState& state, Visitor&& visit) {
   visit("", "time", &state.time, std::size_t{1});
 }
 
+/// The disks ("dem"), the plate ("plate"), the springs ("springs"), then the
+/// exchange's own fields: the state's own list (Coupled2dState::for_each_field).
+template <class Visitor>
+void for_each_field(Coupled2dState& state, Visitor&& visit) {
+  state.for_each_field(visit);
+}
+
 // ---- hashes --------------------------------------------------------------------
 // The full-state hash is FNV-1a over the concatenated raw bytes of every field in
 // visitor order (exactly a snapshot's payload, so it is also the payload checksum).
@@ -97,6 +107,7 @@ std::uint64_t state_hash(const DemState<3>& state) noexcept;
 std::uint64_t state_hash(const BarState& state) noexcept;
 std::uint64_t state_hash(const PlateState& state) noexcept;
 std::uint64_t state_hash(const CoupledState& state) noexcept;
+std::uint64_t state_hash(const Coupled2dState& state) noexcept;
 
 std::uint64_t layout_hash(const DemState<1>& state) noexcept;
 std::uint64_t layout_hash(const DemState<2>& state) noexcept;
@@ -104,6 +115,7 @@ std::uint64_t layout_hash(const DemState<3>& state) noexcept;
 std::uint64_t layout_hash(const BarState& state) noexcept;
 std::uint64_t layout_hash(const PlateState& state) noexcept;
 std::uint64_t layout_hash(const CoupledState& state) noexcept;
+std::uint64_t layout_hash(const Coupled2dState& state) noexcept;
 
 /// Number of fields the visitor lists.
 std::size_t field_count(const DemState<1>& state) noexcept;
@@ -112,6 +124,7 @@ std::size_t field_count(const DemState<3>& state) noexcept;
 std::size_t field_count(const BarState& state) noexcept;
 std::size_t field_count(const PlateState& state) noexcept;
 std::size_t field_count(const CoupledState& state) noexcept;
+std::size_t field_count(const Coupled2dState& state) noexcept;
 
 /// Writes the hash of field k to out[k] for k < min(out.size(), field_count);
 /// returns field_count.
@@ -121,6 +134,7 @@ std::size_t field_hashes(const DemState<3>& state, std::span<std::uint64_t> out)
 std::size_t field_hashes(const BarState& state, std::span<std::uint64_t> out) noexcept;
 std::size_t field_hashes(const PlateState& state, std::span<std::uint64_t> out) noexcept;
 std::size_t field_hashes(const CoupledState& state, std::span<std::uint64_t> out) noexcept;
+std::size_t field_hashes(const Coupled2dState& state, std::span<std::uint64_t> out) noexcept;
 
 /// Writes the readable name of field k into `buffer` (always NUL-terminated):
 /// "part.name", with "[i]" added when the name occurs more than once (the axis,
@@ -132,6 +146,7 @@ const char* field_name(const DemState<3>& state, std::size_t k, char* buffer, in
 const char* field_name(const BarState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 const char* field_name(const PlateState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 const char* field_name(const CoupledState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
+const char* field_name(const Coupled2dState& state, std::size_t k, char* buffer, int buffer_size) noexcept;
 
 /// A hash of what a model is (properties, features, dt, capacities): pass it as
 /// the snapshot's model tag so that a snapshot of another scene with the same
@@ -143,6 +158,7 @@ std::uint64_t model_fingerprint(const DemModel<3>& model) noexcept;
 std::uint64_t model_fingerprint(const BarModel& model) noexcept;
 std::uint64_t model_fingerprint(const PlateModel& model) noexcept;
 std::uint64_t model_fingerprint(const CoupledModel& model) noexcept;
+std::uint64_t model_fingerprint(const Coupled2dModel& model) noexcept;
 
 // ---- snapshots -------------------------------------------------------------------
 //
@@ -165,7 +181,7 @@ std::uint64_t model_fingerprint(const CoupledModel& model) noexcept;
 inline constexpr std::uint32_t kSnapshotVersion = 2;  // 2: the energy ledgers
 inline constexpr std::size_t kSnapshotHeaderBytes = 64;
 
-enum class SnapshotKind : std::uint8_t { dem1 = 1, dem2 = 2, dem3 = 3, bar = 4, coupled = 5, plate = 6 };
+enum class SnapshotKind : std::uint8_t { dem1 = 1, dem2 = 2, dem3 = 3, bar = 4, coupled = 5, plate = 6, coupled2d = 7 };
 
 enum class SnapshotStatus : std::uint8_t {
   ok,
@@ -200,6 +216,7 @@ std::size_t snapshot_size(const DemState<3>& state) noexcept;
 std::size_t snapshot_size(const BarState& state) noexcept;
 std::size_t snapshot_size(const PlateState& state) noexcept;
 std::size_t snapshot_size(const CoupledState& state) noexcept;
+std::size_t snapshot_size(const Coupled2dState& state) noexcept;
 
 /// Writes a snapshot into the first snapshot_size(state) bytes of `buffer`.
 /// `model_tag` (model_fingerprint(model), or 0) is stored for restore to check.
@@ -209,6 +226,7 @@ SnapshotResult save_snapshot(const DemState<3>& state, std::span<std::byte> buff
 SnapshotResult save_snapshot(const BarState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult save_snapshot(const PlateState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult save_snapshot(const CoupledState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
+SnapshotResult save_snapshot(const Coupled2dState& state, std::span<std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 
 /// Restores a snapshot into `state`, which must have been built by the same
 /// model (its arrays give the expected layout). Everything is checked before a
@@ -221,6 +239,7 @@ SnapshotResult restore_snapshot(DemState<3>& state, std::span<const std::byte> b
 SnapshotResult restore_snapshot(BarState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult restore_snapshot(PlateState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 SnapshotResult restore_snapshot(CoupledState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
+SnapshotResult restore_snapshot(Coupled2dState& state, std::span<const std::byte> buffer, std::uint64_t model_tag = 0) noexcept;
 
 // ---- file helpers (tools only: these allocate a buffer and touch the file system) --
 
@@ -230,6 +249,7 @@ SnapshotResult save_snapshot_file(const char* path, const DemState<3>& state, st
 SnapshotResult save_snapshot_file(const char* path, const BarState& state, std::uint64_t model_tag = 0);
 SnapshotResult save_snapshot_file(const char* path, const PlateState& state, std::uint64_t model_tag = 0);
 SnapshotResult save_snapshot_file(const char* path, const CoupledState& state, std::uint64_t model_tag = 0);
+SnapshotResult save_snapshot_file(const char* path, const Coupled2dState& state, std::uint64_t model_tag = 0);
 
 SnapshotResult restore_snapshot_file(const char* path, DemState<1>& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, DemState<2>& state, std::uint64_t model_tag = 0);
@@ -237,5 +257,6 @@ SnapshotResult restore_snapshot_file(const char* path, DemState<3>& state, std::
 SnapshotResult restore_snapshot_file(const char* path, BarState& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, PlateState& state, std::uint64_t model_tag = 0);
 SnapshotResult restore_snapshot_file(const char* path, CoupledState& state, std::uint64_t model_tag = 0);
+SnapshotResult restore_snapshot_file(const char* path, Coupled2dState& state, std::uint64_t model_tag = 0);
 
 }  // namespace xfdem

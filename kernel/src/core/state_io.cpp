@@ -226,6 +226,7 @@ const char* kind_name(std::uint8_t kind) noexcept {
     case 4: return "BarState";
     case 5: return "CoupledState";
     case 6: return "PlateState";
+    case 7: return "Coupled2dState";
     default: return "unknown";
   }
 }
@@ -244,6 +245,8 @@ template <>
 constexpr SnapshotKind kind_of<CoupledState>() noexcept { return SnapshotKind::coupled; }
 template <>
 constexpr SnapshotKind kind_of<PlateState>() noexcept { return SnapshotKind::plate; }
+template <>
+constexpr SnapshotKind kind_of<Coupled2dState>() noexcept { return SnapshotKind::coupled2d; }
 
 SnapshotResult result(SnapshotStatus status, std::size_t bytes, const char* format, ...)
     __attribute__((format(printf, 3, 4)));
@@ -533,6 +536,17 @@ std::uint64_t model_fingerprint(const CoupledModel& model) noexcept {
   return h;
 }
 
+std::uint64_t model_fingerprint(const Coupled2dModel& model) noexcept {
+  std::uint64_t h = mix_u64(kFnvOffset, 0x4332u);  // "C2"
+  h = mix_u64(h, dem_fingerprint(model.dem));
+  h = mix_u64(h, model_fingerprint(model.plate));
+  h = mix_u64(h, static_cast<std::uint64_t>(model.substeps));
+  h = mix_double(h, model.dt);
+  // The boundary's broad phase (its bins fix the order of a disk's contacts).
+  h = mix_double(mix_double(h, model.boundary.reach), model.boundary.allowance);
+  return h;
+}
+
 // ---- the overloads -------------------------------------------------------------------
 
 #define XFDEM_STATE_IO_OVERLOADS(State)                                                                      \
@@ -568,6 +582,7 @@ XFDEM_STATE_IO_OVERLOADS(DemState<3>)
 XFDEM_STATE_IO_OVERLOADS(BarState)
 XFDEM_STATE_IO_OVERLOADS(CoupledState)
 XFDEM_STATE_IO_OVERLOADS(PlateState)
+XFDEM_STATE_IO_OVERLOADS(Coupled2dState)
 
 #undef XFDEM_STATE_IO_OVERLOADS
 
