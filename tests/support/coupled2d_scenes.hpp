@@ -37,6 +37,42 @@ inline PlateDesc cracked_free_plate() {
   return p;
 }
 
+/// A bed of n frictional disks (0.5 kg, r = 8 mm, k = 1e5 N/m, ζ = 0.2,
+/// μ = 0.5, k_t = 0.8 k) in rows of 70, the lowest 0.2 mm above the top of a
+/// 2 m × 0.5 m plate (E = 1e9 Pa, ρ = 2000, 40 × 10 cells) held at its bottom,
+/// with a circular void and a free crack across it, all at rest under
+/// gravity; symplectic Euler, 10 substeps (bench/bm_coupled2d.cpp).
+inline Coupled2dDesc disk_bed_on_plate(int n) {
+  Coupled2dDesc d;
+  d.plate = plate(1e9, 2, 0.5, 40, 10);
+  d.plate.density = 2000.0;
+  d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
+  PlateDiscontinuity hole;
+  hole.name = "hole";
+  hole.kind = PlateDiscontinuity::Kind::hole;
+  hole.shape = PlateDiscontinuity::Shape::circle;
+  hole.centre[0] = 0.6, hole.centre[1] = 0.25, hole.radius = 0.12;
+  d.plate.discontinuities.push_back(hole);
+  PlateDiscontinuity crack;
+  crack.name = "crack";
+  crack.kind = PlateDiscontinuity::Kind::crack;
+  crack.shape = PlateDiscontinuity::Shape::polyline;
+  crack.points = {{1.33, -0.1}, {1.41, 0.6}};
+  d.plate.discontinuities.push_back(crack);
+  d.dem.integrator = DemIntegrator::symplectic_euler;
+  d.dem.gravity = {0.0, -9.81};
+  d.dem.damping_ratio = 0.2;
+  d.dem.friction = 0.5;
+  d.dem.tangential_stiffness_ratio = 0.8;
+  for (int k = 0; k < n; ++k) {
+    const int i = k % 70, j = k / 70;
+    d.dem.particles.push_back(
+        disk(0.5, 0.008, 1e5, 0.11 + 0.0255 * i + 0.003 * (j % 2), 0.5082 + 0.017 * j, 0.0, 0.0));
+  }
+  d.dem_substeps = 10;
+  return d;
+}
+
 /// Total linear momentum along `axis`: the plate's and the disks'.
 inline double total_momentum(const Coupled2dModel& m, const Coupled2dState& s, int axis) {
   double p = plate_momentum(m.plate, s.plate, axis);
