@@ -1,8 +1,9 @@
 // A pool of two workers for the kernel's ParallelFor: the calling thread runs
 // part 0, one background thread (created once, optionally pinned to a core)
 // runs part 1. Handing over a task is two atomic stores and a wait on an
-// atomic: no allocation and no mutex per call. The background thread spins
-// briefly, then sleeps on the atomic (futex) until the next task.
+// atomic: no allocation and no mutex per call. A waiting thread spins
+// briefly, then sleeps on the atomic (futex, at most a millisecond at a time)
+// until the next task or its end.
 #pragma once
 #include <atomic>
 #include <thread>
@@ -36,6 +37,11 @@ class TwoWorkerPool {
   std::atomic<unsigned> posted_{0};    // generation of the last task handed over
   std::atomic<unsigned> finished_{0};  // generation the worker last completed
   std::atomic<bool> stop_{false};
+  // Threads asleep on posted_ / finished_: a notifier calls the kernel only
+  // when one is (the store and this count's load are both sequentially
+  // consistent, so a sleeper that missed the store is seen).
+  std::atomic<int> posted_sleepers_{0};
+  std::atomic<int> finished_sleepers_{0};
   int spins_;
   std::thread worker_;
 };
