@@ -331,6 +331,9 @@ struct StateArray {
   T* data;
   std::size_t count;
 };
+/// Spelled out for compilers without C++20's deduction for aggregates (clang 14).
+template <class T>
+StateArray(T*, std::size_t) -> StateArray<T>;
 
 /// Everything a step changes. Plain data: copying it is a snapshot.
 template <int D>
