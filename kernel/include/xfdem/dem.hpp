@@ -525,6 +525,17 @@ void dem_restart_energy_ledger(const DemModel<D>& model, DemState<D>& state);
 template <int D>
 void dem_inputs_changed(DemState<D>& state);
 
+/// to = from for two states of one model (the same array sizes), as a coupled
+/// window saves and restarts its particles: each array by a plain loop,
+/// walking the two states' one list of fields side by side. For the few
+/// particles of a coupled scene that costs two thirds of DemState's
+/// assignment, whose std::vector assignments check capacities and call
+/// memmove for arrays of two values. States of other sizes take the
+/// assignment, which may allocate. Out of line, so that a profile names it
+/// (tools/callgrind_steps.py).
+template <int D>
+void dem_copy_state(DemState<D>& to, const DemState<D>& from);
+
 /// Stable step factor y = ω h of an integrator for one linear contact with
 /// damping ratio ζ: the largest ω h at which one undamped contact period
 /// (2π/(ω h) steps) amplifies the free response by at most 1 %. See docs/dem.md.

@@ -32,28 +32,6 @@ void for_each_double(DemState<1>& state, F&& f) {
   });
 }
 
-/// to = from for two states of one model, as the window copies them (the
-/// same array sizes): each array by a plain loop over its values, walking the
-/// two states' one list of fields side by side. For the few particles of a
-/// coupled scene that costs two thirds of DemState's assignment, whose
-/// std::vector assignments check capacities and call memmove for arrays of
-/// two values. States with other sizes (not of one model) take the
-/// assignment, which may allocate. Not inlined, so that a profile names it
-/// (tools/callgrind_steps.py).
-[[gnu::noinline]] void copy_state(DemState<1>& to, const DemState<1>& from) {
-  bool same = true;
-  to.for_each_array(
-      [&](const char*, auto* data, auto count, auto source) {
-        if (source.count != static_cast<std::size_t>(count)) {
-          same = false;
-          return;
-        }
-        for (std::size_t i = 0; i < source.count; ++i) data[i] = source.data[i];
-      },
-      from);
-  if (!same) to = from;
-}
-
 BuildResult prefixed(const char* prefix, const BuildResult& r) { return BuildResult::failure(r.code, "%s%s", prefix, r.message); }
 
 /// A particle starting deeper in the bar's tip than its radius (its centre
@@ -180,12 +158,12 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
   const bool bar_stepped = !restore || !m.bar.linear_in_tip_force;
   if (restore) {  // the first pass starts from the state as it is
     if (bar_stepped) s.bar = w.bar_start;  // same sizes: element-wise copies, no allocation
-    copy_state(s.dem, w.dem_start);
+    dem_copy_state(s.dem, w.dem_start);
   }
   // A step not taken leaves the state as the window found it.
   const auto not_taken = [&](StepStatus status) {
     s.bar = w.bar_start;
-    copy_state(s.dem, w.dem_start);
+    dem_copy_state(s.dem, w.dem_start);
     return status;
   };
   const auto now = [&w] { return w.clock_ns ? w.clock_ns() : 0; };
@@ -352,7 +330,7 @@ StepStatus coupled_step(const CoupledModel& m, CoupledState& s, CoupledWorkspace
 
 StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledWorkspace& w) {
   if (!m.bar.built || m.dem.accelerations == nullptr) return StepStatus::not_built;
-  copy_state(w.dem_start, s.dem);
+  dem_copy_state(w.dem_start, s.dem);
   w.bar_start = s.bar;
   // A non-finite start is stepped once and reported, like a non-finite pass.
   StepStatus status = start_finite(m, s) ? StepStatus::ok : StepStatus::non_finite;
@@ -449,7 +427,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     if (have_lo && have_hi && std::fabs(hi - lo) <= resolution) {
       const double f_other = f == lo ? hi : lo;
       const double J_here = J;
-      copy_state(w.dem_end, s.dem);
+      dem_copy_state(w.dem_end, s.dem);
       status |= window_pass(m, s, w, f_other + carried, true, J);
       if (has(status, kStepNotTaken)) return status;
       ++passes;
@@ -492,7 +470,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
     g_prev = g;
     f = f_next;
     if (passes == 1 && m.bar.linear_in_tip_force && first_affine) {
-      copy_state(w.dem_first, s.dem);
+      dem_copy_state(w.dem_first, s.dem);
       first_kept = true;
     }
     status |= window_pass(m, s, w, f + carried, true, J);

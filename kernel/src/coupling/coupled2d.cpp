@@ -263,7 +263,7 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
                        double& work) {
   StepStatus status = StepStatus::ok;
   s.plate = w.plate_start;
-  s.dem = w.dem_start;
+  dem_copy_state(s.dem, w.dem_start);
   if (m.rotating) s.springs = w.springs_start;
   status |= plate_start_acceleration(m.plate, s.plate, w.plate);
   status |= without(plate_step(m.plate, s.plate, w.plate), StepStatus::energy_growth);
@@ -460,7 +460,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
     if (s.step == 0 || s.dem.hist_plane_force[static_cast<std::size_t>(s.dem.history_head)][touching] != 0.0)
       dem_inputs_changed(s.dem);
   }
-  w.dem_start = s.dem;
+  dem_copy_state(w.dem_start, s.dem);
   w.plate_start = s.plate;
   if (m.rotating) w.springs_start = s.springs;
   plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.start_positions.data());

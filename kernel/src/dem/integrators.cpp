@@ -740,6 +740,24 @@ template void dem_inputs_changed<1>(DemState<1>&);
 template void dem_inputs_changed<2>(DemState<2>&);
 template void dem_inputs_changed<3>(DemState<3>&);
 
+template <int D>
+void dem_copy_state(DemState<D>& to, const DemState<D>& from) {
+  bool same = true;
+  to.for_each_array(
+      [&](const char*, auto* data, auto count, auto source) {
+        if (source.count != static_cast<std::size_t>(count)) {
+          same = false;
+          return;
+        }
+        for (std::size_t i = 0; i < source.count; ++i) data[i] = source.data[i];
+      },
+      from);
+  if (!same) to = from;
+}
+template void dem_copy_state<1>(DemState<1>&, const DemState<1>&);
+template void dem_copy_state<2>(DemState<2>&, const DemState<2>&);
+template void dem_copy_state<3>(DemState<3>&, const DemState<3>&);
+
 template void dem_drive_plane<1>(const DemModel<1>&, DemState<1>&, std::int32_t, double, double);
 template void dem_drive_plane<2>(const DemModel<2>&, DemState<2>&, std::int32_t, double, double);
 template void dem_drive_plane<3>(const DemModel<3>&, DemState<3>&, std::int32_t, double, double);
