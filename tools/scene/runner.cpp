@@ -264,7 +264,6 @@ class Coupled2dSystem {
     switch (p.kind) {
       case Probe::Kind::plate_contact_force: return boundary_force(p.particle, false);
       case Probe::Kind::plate_tangential_contact_force: return boundary_force(p.particle, true);
-      case Probe::Kind::momentum_particles: return dem_momentum(m.dem, s.dem, p.component);
       case Probe::Kind::momentum_total:
         return plate_momentum(m.plate, s.plate, p.component) + dem_momentum(m.dem, s.dem, p.component);
       default: break;
