@@ -50,6 +50,18 @@ constexpr double kCrackY = 0.537;                    // off the node lines of bo
 constexpr double kBandLow = 0.337, kBandHigh = 0.737;  // the inclusion: a band across the plate
 constexpr double kInterfaceX = 5.03;  // the stiffer right part's interface, off the node lines
 
+/// A rectangular inclusion (x0, y0)–(x1, y1) of the plate's ν and ρ and the given E.
+void add_rectangle_inclusion(PlateDesc& d, const char* name, double x0, double y0, double x1, double y1,
+                             double youngs_modulus) {
+  PlateDiscontinuity q;
+  q.name = name;
+  q.kind = PlateDiscontinuity::Kind::inclusion;
+  q.shape = PlateDiscontinuity::Shape::polygon;
+  q.points = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  q.material = {youngs_modulus, d.poisson_ratio, d.density};
+  d.discontinuities.push_back(q);
+}
+
 // A strip 8 × 1 m, E = 1 GPa, ρ = 1000 kg/m³, plane strain, absorbing on the
 // left and right edges; rollers on the top and bottom (y held for a P wave, x
 // for an S wave) make a plane wave exact: u_c = f(x − ct) with c = c_p =
@@ -88,21 +100,11 @@ WaveResult run_wave(const WaveCase& w) {
     }
     d.discontinuities.push_back(q);
   } else if (w.cut == Cut::stiffer_right_part) {
-    PlateDiscontinuity q;
-    q.name = "right";
-    q.kind = PlateDiscontinuity::Kind::inclusion;
-    q.shape = PlateDiscontinuity::Shape::polygon;
-    q.points = {{kInterfaceX, -1.0}, {kLength + 1.0, -1.0}, {kLength + 1.0, kHeight + 1.0}, {kInterfaceX, kHeight + 1.0}};
-    q.material = {4.0 * d.youngs_modulus, d.poisson_ratio, d.density};  // twice the impedance, twice the speed
-    d.discontinuities.push_back(q);
+    // four times as stiff: twice the impedance, twice the speed
+    add_rectangle_inclusion(d, "right", kInterfaceX, -1.0, kLength + 1.0, kHeight + 1.0, 4.0 * d.youngs_modulus);
   } else if (w.cut == Cut::inclusion) {
-    PlateDiscontinuity q;
-    q.name = "band";
-    q.kind = PlateDiscontinuity::Kind::inclusion;
-    q.shape = PlateDiscontinuity::Shape::polygon;
-    q.points = {{-1.0, kBandLow}, {kLength + 1.0, kBandLow}, {kLength + 1.0, kBandHigh}, {-1.0, kBandHigh}};
-    q.material = {d.youngs_modulus, d.poisson_ratio, d.density};  // the same material: invisible to the wave
-    d.discontinuities.push_back(q);
+    // the same material: invisible to the wave
+    add_rectangle_inclusion(d, "band", -1.0, kBandLow, kLength + 1.0, kBandHigh, d.youngs_modulus);
   }
   // E, ν, ρ give c_p, c_s; the step is half a cell's crossing time at c_p.
   const double lambda = d.youngs_modulus * w.nu / ((1.0 + w.nu) * (1.0 - 2.0 * w.nu));
