@@ -271,11 +271,11 @@ std::string bed() { return std::string(XFDEM_SOURCE_DIR) + "/tests/rt/coupled2d_
 // and ordered, nothing is allocated in the loop, the grid's capacities are
 // reported against the model's (no timing is asserted).
 TEST(RealTimeHarness, Coupled2dBedRunsPacedWithoutAllocating) {
-  Result r = run(bed() + " --steps 150 --budget-us 20000 --threads 2");
+  Result r = run(bed() + " --steps 100 --budget-us 10000 --threads 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.fields["system"].rfind("coupled 2D, 300 disks x 10 substeps, broad phase grid", 0), 0u)
       << r.fields["system"];
-  expect_step_statistics(r, 150);
+  expect_step_statistics(r, 100);
   EXPECT_EQ(integer(r, "deadline_misses"),
             integer(r, "misses_compute_over_period") + integer(r, "misses_late_wakeup"));
   for (const char* name : {"pairs", "neighbors", "grid_cells"}) {
