@@ -10,6 +10,7 @@
 #include "support/csv.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -170,6 +171,48 @@ TEST(Coupled2dEnergyCheck, PublishedColumnsAreSilentAtEveryStep) {
     ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
     EXPECT_EQ(warned_from(r), 0) << name << ": " << r.err;
   }
+}
+
+// The hertz branch of the disk–plate contact's energy (coupled2d_boundary_energy),
+// against Hertz's closed form: a 1 kg disk (E = 1e8 Pa, ν = 0.3, r = 0.05 m,
+// restitution 0.1) set down on a nearly rigid supported plate (E = 2e15 Pa)
+// under gravity settles where 4/3 E* √r δ^{3/2} = m g, with 1/E* the sum of
+// the two bodies' (1 − ν²)/E; the energy probe's elastic part there is the
+// contact's 8/15 E* √r δ^{5/2} = 2/5 m g δ (the plate's own, (m g)² over its
+// stiffness, is ~1e-10 of it), and the check at every step is silent.
+TEST(Coupled2dEnergyCheck, AHertzDiskRestingOnThePlateHoldsHertzsEnergy) {
+  const double m = 1.0, g = 9.81, r = 0.05, e_disk = 1e8, e_plate = 2e15, nu = 0.3, top = 0.2;
+  char text[2000];
+  std::snprintf(text, sizeof(text), R"({"name": "hertz_rest", "dimension": 2, "gravity": [0, %.17g],
+  "time": {"end": 0.5, "dt": 1e-4, "dem_substeps": 10},
+  "dem": {"integrator": "symplectic_euler", "contact": {"law": "hertz", "restitution": 0.1},
+    "particles": [{"name": "d1", "mass": %.17g, "radius": %.17g, "youngs_modulus": %.17g, "poisson_ratio": %.17g,
+                   "position": [1.0, %.17g]}]},
+  "continuum": {"type": "plate", "domain": {"min": [0, 0], "max": [2, %.17g]}, "cells": [10, 1],
+    "material": {"youngs_modulus": %.17g, "poisson_ratio": %.17g, "density": 7800},
+    "supports": [{"edge": "bottom", "fix": ["x", "y"]}]},
+  "energy_check": {"interval": 1},
+  "output": {"every": 0.5, "probes": [
+    {"name": "y", "particle": "d1", "quantity": "position", "component": 1},
+    {"name": "E_kinetic", "quantity": "energy", "of": "kinetic"},
+    {"name": "E_elastic", "quantity": "energy", "of": "elastic"}]}})",
+                -g, m, r, e_disk, nu, top + r, top, e_plate, nu);
+  const fs::path path = scratch() / "hertz_rest.json", csv = scratch() / "hertz_rest.csv";
+  std::ofstream(path) << text;
+  const Result res = run("run " + path.string() + " --csv " + csv.string());
+  ASSERT_EQ(res.exit_code, 0) << res.err;
+  EXPECT_EQ(warned_from(res), 0) << res.err;
+  const Csv c = read_csv(csv);
+  ASSERT_EQ(c.rows.size(), 2u);
+  const double e_star = 1.0 / ((1 - nu * nu) / e_disk + (1 - nu * nu) / e_plate);
+  const double delta = std::pow(3.0 * m * g / (4.0 * e_star * std::sqrt(r)), 2.0 / 3.0);
+  const double energy = 8.0 / 15.0 * e_star * std::sqrt(r) * std::pow(delta, 2.5);
+  const double y = c.rows[1][c.column("y")], elastic = c.rows[1][c.column("E_elastic")];
+  std::printf("hertz at rest: overlap %.9g m, %.2g from the closed form; elastic %.9g J, %.2g from 2/5 m g delta\n",
+              top + r - y, std::fabs(top + r - y - delta) / delta, elastic, std::fabs(elastic - energy) / energy);
+  EXPECT_NEAR(top + r - y, delta, 1e-8 * delta);  // the plate's compliance: ~1e-10
+  EXPECT_NEAR(elastic, energy, 1e-8 * energy);
+  EXPECT_LT(c.rows[1][c.column("E_kinetic")], 1e-9 * energy);
 }
 
 struct BadCheck {
