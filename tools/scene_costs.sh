@@ -9,9 +9,9 @@ echo "| scene | workers | steps | median | p99 | worst |"
 echo "|---|---:|---:|---:|---:|---:|"
 for scene in scenes/*.json; do
   for threads in 1 2; do
-    # Scenes the harness cannot hold yet (particles against a plate) are listed as such.
+    # A scene the harness refuses (or that stops on a step status) is listed as such.
     if ! report=$("$rt" "$scene" --threads "$threads" 2>/dev/null); then
-      printf '| %s | %s | not run (xfdem_rt refuses it) | | | |\n' "$(basename "$scene" .json)" "$threads"
+      printf '| %s | %s | not run (xfdem_rt failed) | | | |\n' "$(basename "$scene" .json)" "$threads"
       continue
     fi
     field() { awk -v k="$1:" '$1 == k { print $2 }' <<<"$report"; }

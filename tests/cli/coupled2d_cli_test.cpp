@@ -363,10 +363,7 @@ INSTANTIATE_TEST_SUITE_P(
                           "scene key 'output.probes.5.at': (0.5, 31) is outside the plate's domain"},
         Coupled2dBadInput{"--set 'output.probes.7.between=[\"p1\",\"bar\"]'",
                           "scene key 'output.probes.7.between': 'bar' named but the scene has no bar"},
-        Coupled2dBadInput{"--set dem.particles.0.name=plate", "scene key 'dem.particles.0.name': 'plate' is reserved or empty"},
-        Coupled2dBadInput{"--set 'energy_check={\"interval\":10}'",
-                          "scene key 'energy_check': not used by particles against the plate (the coupled 2D step has "
-                          "no energy check yet)"}));
+        Coupled2dBadInput{"--set dem.particles.0.name=plate", "scene key 'dem.particles.0.name': 'plate' is reserved or empty"}));
 
 // `xfdem replay` of a coupled 2D scene with friction and rolling resistance:
 // the per-step hashes of the whole coupled state (the disks' rotation, the

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "support/command.hpp"
+#include "xfdem/coupled2d.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -232,6 +233,80 @@ TEST(RealTimeHarness, EnergyGrowthIsReportedAndTheLoopCarriesOn) {
   Result plain = run(scene("case1_xfem.json") + " --steps 3000");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_EQ(integer(plain, "energy_growth_from_step"), -1);
+}
+
+// A coupled 2D scene (disks against a plate) runs through the world `xfdem run`
+// steps (scene/coupled2d_run.hpp). Case II as a one-cell column at 1 kHz on
+// the fake clock: the same schedule as the 1D Case II above (no misses, one
+// tick late, the last step ending 999 periods and three ticks after the
+// start), no allocation, the disks' capacities and the window's passes
+// against their bound, and the energy check (on by default) silent.
+TEST(RealTimeHarness, Coupled2dCaseIIAtOneKilohertzReportsItsDeadlineStatistics) {
+  Result r = run_on_fake_clock(scene("coupled2d_case2_xfem.json") + " --rate 1000 --steps 1000");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.fields["scene"], "coupled2d_case2_xfem");
+  EXPECT_EQ(r.fields["system"].rfind("coupled 2D, 2 disks x 10 substeps", 0), 0u) << r.fields["system"];
+  expect_step_statistics(r, 1000);
+  expect_fake_step_times(r);
+  EXPECT_EQ(integer(r, "deadline_misses"), 0);
+  EXPECT_EQ(integer(r, "misses_compute_over_period"), 0);
+  EXPECT_EQ(integer(r, "misses_late_wakeup"), 0);
+  EXPECT_EQ(integer(r, "wakeup_late_median_ns"), kTick);
+  EXPECT_EQ(integer(r, "wakeup_late_max_ns"), 2 * kTick);
+  EXPECT_EQ(r.fields["wall_time_s"], "0.999003");
+  EXPECT_EQ(capacity(r, "pairs"), std::make_pair(1LL, 1LL));
+  const auto passes = capacity(r, "coupled_passes");
+  EXPECT_GE(passes.first, 1);
+  EXPECT_LE(passes.first, passes.second);
+  EXPECT_EQ(passes.second, xfdem::kCoupled2dMaxPasses + 1);  // and the re-run of the smallest residual's pass
+  EXPECT_EQ(integer(r, "windows_at_a_jump"), 0);
+  EXPECT_EQ(integer(r, "energy_growth_from_step"), -1);
+}
+
+/// A bed of 300 disks falling onto a supported plate with a void
+/// (tests/rt/coupled2d_bed.json, the bed of docs/realtime.md's table).
+std::string bed() { return std::string(XFDEM_SOURCE_DIR) + "/tests/rt/coupled2d_bed.json"; }
+
+// The bed on the real clock, on two workers and paced: the report is complete
+// and ordered, nothing is allocated in the loop, the grid's capacities are
+// reported against the model's (no timing is asserted).
+TEST(RealTimeHarness, Coupled2dBedRunsPacedWithoutAllocating) {
+  Result r = run(bed() + " --steps 100 --budget-us 10000 --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.fields["system"].rfind("coupled 2D, 300 disks x 10 substeps, broad phase grid", 0), 0u)
+      << r.fields["system"];
+  expect_step_statistics(r, 100);
+  EXPECT_EQ(integer(r, "deadline_misses"),
+            integer(r, "misses_compute_over_period") + integer(r, "misses_late_wakeup"));
+  for (const char* name : {"pairs", "neighbors", "grid_cells"}) {
+    const auto [peak, cap] = capacity(r, name);
+    EXPECT_GT(peak, 0) << name;
+    EXPECT_LE(peak, cap) << name;
+  }
+  EXPECT_GT(integer(r, "list_builds"), 0);
+  EXPECT_EQ(integer(r, "energy_growth_from_step"), -1);
+}
+
+// The energy check of a coupled 2D scene inside the loop: the free plate's
+// disks made 400 times stiffer with one substep (ω h past symplectic Euler's
+// stable step, allowed by dem.allow_unstable_dt) gain energy; the loop says so
+// from the same step as `xfdem run` of the same scene (the same books), carries
+// on to the end, and allocates nothing.
+TEST(RealTimeHarness, Coupled2dEnergyGrowthIsTheCommandLinesAndTheLoopCarriesOn) {
+  std::string stiff = " --set time.dem_substeps=1 --set dem.allow_unstable_dt=true --set dem.contact.damping_ratio=0";
+  for (int i = 0; i < 4; ++i) stiff += " --set dem.particles." + std::to_string(i) + ".stiffness=4e8";
+  Result r = run(scene("coupled2d_free_plate.json") + stiff);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(integer(r, "steps"), 600);
+  EXPECT_EQ(integer(r, "allocations_in_loop"), 0);
+  EXPECT_EQ(r.fields["status"], "ok");
+  const long long from = integer(r, "energy_growth_from_step");
+  EXPECT_GT(from, 0);
+  const xfdem::testing::CommandResult cli = xfdem::testing::run_command(
+      XFDEM_CLI, "run " + scene("coupled2d_free_plate.json") + stiff + " --csv " +
+                     (xfdem::testing::scratch("rt_test") / "stiff.csv").string());
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  EXPECT_NE(cli.err.find("warning: from step " + std::to_string(from) + " on"), std::string::npos) << cli.err;
 }
 
 struct BadFlags {

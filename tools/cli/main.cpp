@@ -185,7 +185,8 @@ int run(int argc, char** argv) {
   if (summary.first_energy_growth_step > 0)
     std::fprintf(stderr,
                  "xfdem: warning: from step %lld on the energy exceeded its start plus the work done by more than "
-                 "the energy check's tolerance (energy_growth): the method gained energy (docs/stability.md)\n",
+                 "the energy check's tolerance (energy_growth; scene key energy_check): the method gained energy "
+                 "(docs/stability.md)\n",
                  static_cast<long long>(summary.first_energy_growth_step));
   return 0;
 }

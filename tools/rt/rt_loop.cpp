@@ -37,6 +37,7 @@
 #include <variant>
 #include <vector>
 
+#include "scene/coupled2d_run.hpp"
 #include "scene/scene.hpp"
 #include "xfdem/coupled.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
@@ -237,6 +238,37 @@ class CoupledSystem {
   xfdem::CoupledWorld world_;
 };
 
+/// Disks against a plate: the world `xfdem run` steps (scene/coupled2d_run.hpp),
+/// with the energy check of the scene's `energy_check` inside its step.
+class Coupled2dSystem {
+ public:
+  Coupled2dSystem(const xfdem::scene::Scene& scene, xfdem::ParallelFor parallel) : run_(scene, parallel) {}
+  StepStatus step() { return run_.step(); }
+  std::string describe() const {
+    const auto& m = run_.world().model;
+    char text[240];
+    std::snprintf(text, sizeof(text),
+                  "coupled 2D, %d disks x %d substeps, broad phase %s, %d part(s), plate %dx%d cells (%d unknowns), "
+                  "%zu boundary segments",
+                  m.dem.n, m.substeps, broad_phase_name(m.dem.features.broad_phase), m.dem.parts,
+                  m.plate.desc.cells[0], m.plate.desc.cells[1], m.plate.dofs, m.boundary.segments.size());
+    return text;
+  }
+  /// A window's passes: at most kCoupled2dMaxPasses, and one more when it is
+  /// taken at its smallest residual (re-run at that force).
+  void capacities(std::vector<Capacity>& out) const {
+    dem_capacities(run_.world().model.dem, run_.world().state.dem, out);
+    out.push_back({"coupled_passes", run_.world().state.peak_passes, xfdem::kCoupled2dMaxPasses + 1});
+  }
+  std::int64_t list_builds() const { return run_.world().state.dem.list_builds; }
+  void extras() const {
+    std::printf("windows_at_a_jump: %" PRId64 "\n", run_.world().state.unsettled_windows);
+  }
+
+ private:
+  xfdem::scene::Coupled2dRun run_;
+};
+
 // ---- the loop ------------------------------------------------------------------
 
 /// Sleeps (coarsely) until `target_ns` minus a margin, then spins on the clock:
@@ -403,6 +435,7 @@ int run_and_report(const Options& o, const xfdem::scene::Scene& scene, System& s
   for (const Capacity& c : capacities)
     std::printf("capacity_%s: %" PRId64 " of %" PRId64 "\n", c.name, c.peak, c.capacity);
   if (!capacities.empty()) std::printf("list_builds: %" PRId64 "\n", system.list_builds());
+  if constexpr (requires { system.extras(); }) system.extras();
   char text[200];
   std::printf("energy_growth_from_step: %" PRId64 "\n", r.energy_growth_step);
   std::printf("status: %s\n", xfdem::describe(r.status, text, sizeof(text)));
@@ -443,8 +476,10 @@ int run(const Options& o) {
   }
   const xfdem::ParallelFor parallel = pool ? pool->parallel_for() : xfdem::ParallelFor{};
 
-  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem))
-    throw SceneError("scene key 'dem': xfdem_rt does not run particles against a plate yet (xfdem run does)");
+  if (scene.plate && !std::holds_alternative<std::monostate>(scene.dem)) {
+    Coupled2dSystem system(scene, parallel);
+    return run_and_report(o, scene, system, pinned.c_str());
+  }
   if (scene.bar && !std::holds_alternative<std::monostate>(scene.dem)) {
     CoupledSystem system(scene, parallel);
     return run_and_report(o, scene, system, pinned.c_str());

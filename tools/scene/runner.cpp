@@ -12,6 +12,7 @@
 #include "xfdem/coupling/plate_boundary.hpp"
 #include "xfdem/platform/clock.hpp"
 #include "xfdem/platform/worker_pool.hpp"
+#include "scene/coupled2d_run.hpp"
 #include "scene/vtk.hpp"
 
 #include <memory>
@@ -236,31 +237,29 @@ class CoupledSystem {
   mutable std::int64_t energy_step_ = -1;
 };
 
-/// Particles and a plate together (scenes-2d.md, "Particles against the continuum").
+/// Particles and a plate together (scenes-2d.md, "Particles against the
+/// continuum"), stepped with their energy check (scene/coupled2d_run.hpp).
 class Coupled2dSystem {
  public:
-  Coupled2dSystem(const Scene& scene, ParallelFor parallel) {
-    const BuildResult built = world_.build(coupled2d_desc(scene));
-    if (!built.ok()) throw build_refusal(scene, Built::coupled, built);
-    world_.workspace.dem.parallel = parallel;
-    positions_.assign(2 * world_.model.boundary.vertices.size(), 0.0);
+  Coupled2dSystem(const Scene& scene, ParallelFor parallel) : run_(scene, parallel) {
+    positions_.assign(2 * run_.world().model.boundary.vertices.size(), 0.0);
   }
-  StepStatus step() { return world_.step(); }
-  void time_stages(bool on) { world_.workspace.dem.clock_ns = on ? &platform::monotonic_ns : nullptr; }
+  StepStatus step() { return run_.step(); }
+  void time_stages(bool on) { run_.workspace().dem.clock_ns = on ? &platform::monotonic_ns : nullptr; }
   std::string stages() const {
-    const Coupled2dState& s = world_.state;
+    const Coupled2dState& s = run_.world().state;
     char text[200];
     std::snprintf(text, sizeof(text), "exchange passes per step: last %d, peak %d; windows taken at a jump %" PRId64
                   " (worst residual %.2g); ", s.last_passes, s.peak_passes, s.unsettled_windows, s.worst_unsettled);
-    return text + dem_stages(world_.model.dem, s.dem, world_.workspace.dem.profile);
+    return text + dem_stages(run_.world().model.dem, s.dem, run_.world().workspace.dem.profile);
   }
   void write_vtk(VtkSeries& vtk) const {
-    vtk.plate(world_.model.plate, world_.state.plate);
-    vtk.particles(world_.model.dem, world_.state.dem);
+    vtk.plate(run_.world().model.plate, run_.world().state.plate);
+    vtk.particles(run_.world().model.dem, run_.world().state.dem);
   }
   double probe(const Probe& p) const {
-    const Coupled2dModel& m = world_.model;
-    const Coupled2dState& s = world_.state;
+    const Coupled2dModel& m = run_.world().model;
+    const Coupled2dState& s = run_.world().state;
     switch (p.kind) {
       case Probe::Kind::plate_contact_force: return boundary_force(p.particle, false);
       case Probe::Kind::plate_tangential_contact_force: return boundary_force(p.particle, true);
@@ -268,7 +267,7 @@ class Coupled2dSystem {
         return plate_momentum(m.plate, s.plate, p.component) + dem_momentum(m.dem, s.dem, p.component);
       default: break;
     }
-    if (is_energy(p.kind)) return energy_part(energy(), p.kind);
+    if (is_energy(p.kind)) return energy_part(run_.energy(), p.kind);
     const double value = particle_probe(m.dem, s.dem, p);
     return std::isnan(value) ? plate_probe(m.plate, s.plate, p) : value;
   }
@@ -278,8 +277,8 @@ class Coupled2dSystem {
   /// where both are now (nearest first); the boundary's place is computed
   /// once per row.
   int contacts(std::int32_t i, double reach, PlateBoundaryContact out[kPlateBoundaryMaxContacts]) const {
-    const Coupled2dModel& m = world_.model;
-    const Coupled2dState& s = world_.state;
+    const Coupled2dModel& m = run_.world().model;
+    const Coupled2dState& s = run_.world().state;
     if (positions_step_ != s.step) {
       plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions_.data());
       positions_step_ = s.step;
@@ -300,41 +299,18 @@ class Coupled2dSystem {
   /// its sign; a disk farther away held no force.
   double boundary_force(std::int32_t i, bool tangential) const {
     double f[2];
-    coupled2d_boundary_force(world_.model, world_.state, i, f);
+    const Coupled2dModel& m = run_.world().model;
+    coupled2d_boundary_force(m, run_.world().state, i, f);
     if (f[0] == 0.0 && f[1] == 0.0) return 0.0;
     PlateBoundaryContact c[kPlateBoundaryMaxContacts];
-    const Coupled2dModel& m = world_.model;
     if (contacts(i, m.dem.radius[static_cast<std::size_t>(i)] + 0.5 * m.boundary.allowance, c) == 0) return NAN;
     const double* n = c[0].normal;
     return tangential ? f[1] * n[0] - f[0] * n[1] : f[0] * n[0] + f[1] * n[1];
   }
 
-  /// The energies of the row's state (scenes.md), computed once for the row's
-  /// energy probes: the plate's and the particles' own, and ½ k δ² of every
-  /// present disk–boundary contact in the elastic part.
-  const CoupledEnergy& energy() const {
-    const Coupled2dModel& m = world_.model;
-    const Coupled2dState& s = world_.state;
-    if (energy_step_ != s.step) {
-      const DemEnergy d = dem_energy(m.dem, s.dem);
-      const PlateEnergy e = plate_energy(m.plate, s.plate);
-      double contact = 0;
-      for (std::int32_t i = 0; i < m.dem.n; ++i) {
-        PlateBoundaryContact c[kPlateBoundaryMaxContacts];
-        const int count = contacts(i, m.dem.radius[static_cast<std::size_t>(i)], c);
-        for (int k = 0; k < count; ++k) contact += 0.5 * m.dem.stiffness[i] * c[k].overlap * c[k].overlap;
-      }
-      energy_ = {d.kinetic + e.kinetic, d.elastic + e.elastic + contact, d.potential + e.potential};
-      energy_step_ = s.step;
-    }
-    return energy_;
-  }
-
-  Coupled2dWorld world_;
+  Coupled2dRun run_;
   mutable std::vector<double> positions_;
   mutable std::int64_t positions_step_ = -1;
-  mutable CoupledEnergy energy_{};
-  mutable std::int64_t energy_step_ = -1;
 };
 
 /// Every kStageSample-th step is timed stage by stage (RunSummary::stages).

@@ -266,10 +266,6 @@ Scene parse_scene(const Json& document) {
     if (scene.dimension != 2) throw SceneError("scene key 'dimension': a plate scene must have dimension 2");
     if (top.has("dem") && static_plate)
       throw SceneError("scene key 'continuum.analysis': particles against the plate need \"dynamic\" (got \"static\")");
-    // The coupled 2D step runs its halves without their energy checks.
-    if (top.has("dem") && top.has("energy_check"))
-      throw SceneError("scene key 'energy_check': not used by particles against the plate (the coupled 2D step has no "
-                       "energy check yet)");
     ObjectReader continuum = top.object("continuum");
     scene.plate = parse_plate(continuum, scene.dt, scene.gravity);
     scene.plate->energy_check = scene.energy_check;

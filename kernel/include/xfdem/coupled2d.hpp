@@ -209,6 +209,14 @@ StepStatus coupled2d_step(const Coupled2dModel& model, Coupled2dState& state, Co
 bool coupled2d_boundary_force(const Coupled2dModel& model, const Coupled2dState& state, std::int32_t particle,
                               double force[2]);
 
+/// Energy (J) of the disk–boundary contacts with the disks and the plate
+/// where they are now: each contact's normal spring (½ k_i δ²; hertz 8/15 E*
+/// √r δ^{5/2} with the plate's material as the second body) and, with linear
+/// friction, ½ k_t |ξ|² of the kept tangential springs (hertz's, kept as a
+/// force, has no potential: the DEM's books leave it out too). `positions`
+/// is the caller's scratch, 2 doubles per boundary vertex. No allocation.
+double coupled2d_boundary_energy(const Coupled2dModel& model, const Coupled2dState& state, double* positions);
+
 struct Coupled2dWorld {
   Coupled2dModel model;
   Coupled2dState state;

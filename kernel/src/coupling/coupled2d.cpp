@@ -557,4 +557,29 @@ bool coupled2d_boundary_force(const Coupled2dModel& m, const Coupled2dState& s, 
   return true;
 }
 
+double coupled2d_boundary_energy(const Coupled2dModel& m, const Coupled2dState& s, double* positions) {
+  if (!m.built) return 0.0;
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions);
+  const bool hertz = m.dem.law == ContactLaw::hertz;
+  double energy = 0;
+  for (std::int32_t i = 0; i < m.dem.n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
+    PlateBoundaryContact c[kPlateBoundaryMaxContacts];
+    const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[iu], c);
+    for (int k = 0; k < count; ++k)
+      energy += hertz ? dem_detail::hertz_energy(1.0 / (m.dem.hertz_inv_e[iu] + m.plate_inv_e), m.dem.radius[iu],
+                                                 c[k].overlap)
+                      : dem_detail::spring_energy(m.dem.stiffness[iu], c[k].overlap);
+  }
+  if (m.rotating && !hertz && m.dem.friction > 0) {
+    const double* const xi[2] = {s.springs.xi.data(), s.springs.xi.data() + 1};
+    for (std::size_t slot = 0; slot < s.springs.chain.size(); ++slot)
+      if (s.springs.chain[slot] >= 0)
+        energy += dem_detail::tangential_energy<2>(
+            m.dem.tangential_ratio * m.dem.stiffness[slot / kPlateBoundaryMaxContacts], xi, 2 * slot);
+  }
+  return energy;
+}
+
 }  // namespace xfdem
