@@ -4,9 +4,10 @@
 // xfem::newmark_step() and profile LDLᵀ as the bar, or solved once (static).
 // docs/xfem2d.md gives the formulation. Discontinuities (PlateDiscontinuity)
 // are given by geometry that ignores the mesh: cracks that cut through the
-// whole plate (shifted-Heaviside enrichment; faces free, or tied by a
-// penalty, or unilateral: only closing resisted), inclusions (a second material, ridge enrichment), voids (no
-// material), and crack tips (branch enrichment).
+// whole plate or end inside it (shifted-Heaviside enrichment; faces free, or
+// tied by a penalty, or unilateral: only closing resisted), inclusions (a
+// second material, ridge enrichment), voids (no material), and crack tips
+// (branch enrichment).
 //
 // Model / state / workspace split as the bar's: build_plate() validates a
 // PlateDesc and is the only call that allocates; plate_step() advances the
@@ -198,12 +199,18 @@ struct PlateModel {
   /// Elasticity and density of material 0 (the plate) and 1 + k (inclusion k).
   std::vector<std::array<double, 9>> material_elasticity;
   std::vector<double> material_density;
-  /// Crack-face penalty points (tied faces): jump [u] = Σ 2 N_a(x) a_a over the
-  /// Heaviside unknowns of the point's crack; stored as the unknowns and the
-  /// coefficients of the normal and tangential jumps, weight = thickness × length.
+  /// Crack-face penalty points (tied or unilateral faces): the jump [u] at the
+  /// point is Σ c_f a_f over the unknowns a_f of the functions that jump
+  /// there: the crack's shifted Heaviside (c = 2 N_a) and, near a tip, the
+  /// branch function √r sin(θ/2) (c = ±2√r N_a; the other three are
+  /// continuous across the crack). Stored as the unknowns and the
+  /// coefficients of the normal and tangential jumps, weight = thickness ×
+  /// length × quadrature weight.
+  static constexpr int kMaxFaceTerms = 16;  ///< 4 nodes × 2 components × (Heaviside, √r sin(θ/2))
   struct FacePoint {
-    int dof[8];
-    double normal[8], tangential[8];
+    int terms;
+    int dof[kMaxFaceTerms];
+    double normal[kMaxFaceTerms], tangential[kMaxFaceTerms];
     double weight, k_normal, k_tangential;
     /// Unilateral faces: the normal penalty acts only while the faces
     /// interpenetrate ([u]·n < 0), frictionless (k_tangential = 0); not in K.

@@ -212,12 +212,6 @@ BuildResult validate_discontinuities(const PlateDesc& d) {
         return BuildResult::failure(Code::invalid_argument,
                                     "discontinuities.%zu.points: the crack '%s' does not enter the domain", k,
                                     q.name.c_str());
-      if (q.faces != Disc::Faces::free && crack_has_tip(d, q))
-        return BuildResult::failure(Code::invalid_argument,
-                                    "discontinuities.%zu.faces: the crack '%s' ends inside the domain (a tip): this "
-                                    "build ties or closes the faces of cracks that cut through the plate only (faces "
-                                    "must be free)",
-                                    k, q.name.c_str());
       if (q.faces != Disc::Faces::free)
         for (int c = 0; c < 2; ++c)
           if (!positive_finite(q.stiffness[c]))
@@ -732,6 +726,53 @@ void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegme
 
 // ---- the one operation the integrator needs ---------------------------------
 
+namespace {
+
+/// The jump (the positive side of the crack's level set minus the negative)
+/// of a tip's branch function √r sin(θ/2) on the crack behind it, over 2√r:
+/// local y is the positive side at the polyline's last point.
+inline double branch_jump_sign(const PlateModel::Tip& t) { return t.at_end ? 1.0 : -1.0; }
+
+/// The terms of the jump [u] across crack k at parent point (xi, eta) of cell
+/// `v`, with normal (gx, gy) towards the positive side: 2 N_a on each shifted
+/// Heaviside unknown of the crack (ψ⁺ − ψ⁻ = 2 whatever the node's side),
+/// ±2√r N_a on each √r sin(θ/2) unknown of a tip of the crack where the point
+/// lies on the tip's line behind it (within 1e-9 of a cell; elsewhere, on a
+/// bent crack, the branch functions are continuous across it). Held
+/// unknowns (−1) are listed with their coefficients as the step skips them.
+void face_terms(const PlateModel& m, const CellView& v, int k, double xi, double eta, double gx, double gy,
+                PlateModel::FacePoint& fp) {
+  fp.terms = 0;
+  for (int f = 0; f < v.count; ++f) {
+    double jump = 0.0;
+    const int a = v.node[f];
+    const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
+    if (v.disc[f] == k) {
+      jump = 2.0 * na;
+    } else if (v.tip[f] >= 0 && v.branch[f] == 0) {
+      const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip[f])];
+      if (t.crack != k) continue;
+      const Point2 x = physical(v, xi, eta);
+      const double dx = x[0] - t.origin[0], dy = x[1] - t.origin[1];
+      const double along = t.cos_a * dx + t.sin_a * dy, across = -t.sin_a * dx + t.cos_a * dy;
+      if (!(along <= 0.0 && std::fabs(across) <= 1e-9 * std::min(m.cell_size[0], m.cell_size[1]))) continue;
+      double r = 0.0, theta = 0.0;
+      xfem::tip_polar(frame_of(t), x, r, theta);
+      jump = branch_jump_sign(t) * 2.0 * std::sqrt(r) * na;
+    } else {
+      continue;
+    }
+    for (int c = 0; c < 2; ++c) {
+      const int e = fp.terms++;
+      fp.dof[e] = v.dof[f][c];
+      fp.normal[e] = jump * (c == 0 ? gx : gy);
+      fp.tangential[e] = jump * (c == 0 ? gy : -gx);
+    }
+  }
+}
+
+}  // namespace
+
 void plate_subtract_stiffness_product(const PlateModel& m, const double* x, double* y) {
   const double* ke = m.element_stiffness;
   const std::size_t plain = m.plain_cell_dof.size() / 8;
@@ -764,9 +805,9 @@ void plate_subtract_stiffness_product(const PlateModel& m, const double* x, doub
   for (const PlateModel::FacePoint& fp : m.face_points) {
     if (fp.unilateral) continue;
     double gn = 0.0, gt = 0.0;
-    for (int a = 0; a < 8; ++a)
+    for (int a = 0; a < fp.terms; ++a)
       if (fp.dof[a] >= 0) gn += fp.normal[a] * x[fp.dof[a]], gt += fp.tangential[a] * x[fp.dof[a]];
-    for (int a = 0; a < 8; ++a)
+    for (int a = 0; a < fp.terms; ++a)
       if (fp.dof[a] >= 0)
         y[fp.dof[a]] -= fp.weight * (fp.k_normal * gn * fp.normal[a] + fp.k_tangential * gt * fp.tangential[a]);
   }
@@ -777,16 +818,16 @@ namespace detail {
 /// The normal jump [u]·n of a face point.
 inline double face_gap(const PlateModel::FacePoint& fp, const double* u) {
   double g = 0.0;
-  for (int a = 0; a < 8; ++a)
+  for (int a = 0; a < fp.terms; ++a)
     if (fp.dof[a] >= 0) g += fp.normal[a] * u[fp.dof[a]];
   return g;
 }
 
 /// A += scale · w k_n g gᵀ of face point fp (g: its normal-jump coefficients).
 inline void add_face_penalty(xfem::SymmetricBand& a, const PlateModel::FacePoint& fp, double scale) {
-  for (int i = 0; i < 8; ++i) {
+  for (int i = 0; i < fp.terms; ++i) {
     if (fp.dof[i] < 0) continue;
-    for (int j = 0; j < 8; ++j) {
+    for (int j = 0; j < fp.terms; ++j) {
       if (fp.dof[j] < 0 || fp.dof[j] > fp.dof[i]) continue;
       a.add(fp.dof[i], fp.dof[j], scale * fp.weight * fp.k_normal * fp.normal[i] * fp.normal[j]);
     }
@@ -849,7 +890,7 @@ class PlateOperator {
         if (!ws_.active[p]) continue;
         const PlateModel::FacePoint& fp = m_.face_points[p];
         const double force = fp.weight * fp.k_normal * face_gap(fp, x);
-        for (int a = 0; a < 8; ++a)
+        for (int a = 0; a < fp.terms; ++a)
           if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
       }
       if (fac0 == 0.0) {  // M k = …: the acceleration does not move u
@@ -870,7 +911,7 @@ class PlateOperator {
         // The gap at u_{n+1} = x + fac0 k.
         const PlateModel::FacePoint& fp = m_.face_points[p];
         double g = 0.0;
-        for (int a = 0; a < 8; ++a)
+        for (int a = 0; a < fp.terms; ++a)
           if (fp.dof[a] >= 0) g += fp.normal[a] * (x[fp.dof[a]] + fac0 * k[fp.dof[a]]);
         const char now = g < 0.0 ? 1 : 0;
         if (now != ws_.active[p]) same = false;
@@ -1490,19 +1531,68 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         }
     }
 
-  // ---- tied crack faces: penalty k [u]·[u] on the zero of the level set --------
+  // ---- tied or unilateral crack faces: penalty k [u]·[u] on the crack ---------
   if (ndisc > 0) {
     const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
     const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+    std::vector<std::vector<Point2>> extended(ndisc);
+    for (std::size_t k = 0; k < ndisc; ++k) extended[k] = extended_polyline(d, d.discontinuities[k]);
+    // One face point at parent (xi, eta) of the cell, normal (gx, gy) towards +.
+    auto add_point = [&](const CellView& cell, int k, double xi, double eta, double gx, double gy, double weight) {
+      const PlateDiscontinuity& q = d.discontinuities[static_cast<std::size_t>(k)];
+      const bool unilateral = q.faces == PlateDiscontinuity::Faces::unilateral;
+      PlateModel::FacePoint fp{};
+      face_terms(model, cell, k, xi, eta, gx, gy, fp);
+      fp.weight = weight;
+      fp.k_normal = q.stiffness[0];
+      fp.k_tangential = unilateral ? 0.0 : q.stiffness[1];
+      fp.unilateral = unilateral;
+      model.face_points.push_back(fp);
+      if (unilateral) {
+        ++model.unilateral_points;
+        return;
+      }
+      for (int a = 0; a < fp.terms; ++a) {
+        if (fp.dof[a] < 0) continue;
+        for (int b = 0; b < fp.terms; ++b) {
+          if (fp.dof[b] < 0 || fp.dof[b] > fp.dof[a]) continue;
+          model.stiffness.add(fp.dof[a], fp.dof[b],
+                              fp.weight * (fp.k_normal * fp.normal[a] * fp.normal[b] +
+                                           fp.k_tangential * fp.tangential[a] * fp.tangential[b]));
+        }
+      }
+    };
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         int en[4];
         cell_nodes(nx, i, j, en);
         if (model.cell_material[static_cast<std::size_t>(j * nx + i)] < 0) continue;
+        bool viewed = false;
         for (std::size_t k = 0; k < ndisc; ++k) {
           const PlateDiscontinuity& q = d.discontinuities[k];
           if (q.kind != PlateDiscontinuity::Kind::crack || q.faces == PlateDiscontinuity::Faces::free) continue;
-          const bool unilateral = q.faces == PlateDiscontinuity::Faces::unilateral;
+          if (!viewed) make_view(model, i, j, view), viewed = true;
+          const int own_tip = view.tip_cell >= 0 && model.tips[static_cast<std::size_t>(view.tip_cell)].crack == static_cast<int>(k)
+                                  ? view.tip_cell
+                                  : -1;
+          if (own_tip >= 0) {
+            // The tip's cell: the straight crack from the tip to where it leaves
+            // the cell, s = L t² from the tip and 5-point Gauss in t: the jump's
+            // products (r, √r and 1 times N_a N_b, N linear in s) become
+            // polynomials of degree ≤ 7 in t, integrated exactly.
+            const PlateModel::Tip& t = model.tips[static_cast<std::size_t>(own_tip)];
+            const double p0 = 2.0 * (t.origin[0] - view.x0[0]) / hx - 1.0, p1 = 2.0 * (t.origin[1] - view.x0[1]) / hy - 1.0;
+            const double e0 = t.exit[0] - p0, e1 = t.exit[1] - p1;
+            const double length = std::hypot(e0 * 0.5 * hx, e1 * 0.5 * hy);
+            if (length == 0.0) continue;
+            const double sign = branch_jump_sign(t);
+            for (int qp = 0; qp < 5; ++qp) {
+              const double tq = kGl5x[qp];
+              add_point(view, static_cast<int>(k), p0 + tq * tq * e0, p1 + tq * tq * e1, -sign * t.sin_a, sign * t.cos_a,
+                        d.thickness * 2.0 * length * tq * kGl5w[qp]);
+            }
+            continue;
+          }
           double phi[5], mean = 0.0;
           for (int a = 0; a < 4; ++a) mean += (phi[a] = phi_at(model, static_cast<int>(k), en[a]));
           phi[4] = 0.25 * mean;
@@ -1513,8 +1603,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             const double tp[3] = {phi[t], phi[(t + 1) % 4], phi[4]};
             Point2 seg[2];
             int found = 0;
-            bool neg = false, pos = false;
-            for (double v : tp) neg = neg || v < 0.0, pos = pos || v > 0.0;
+            bool neg = false;
+            for (double v : tp) neg = neg || v < 0.0;
             if (!neg) continue;
             for (int e = 0; e < 3 && found < 2; ++e) {
               const int a = e, b = (e + 1) % 3;
@@ -1524,51 +1614,37 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 seg[found++] = {tri[a][0] + sc * (tri[b][0] - tri[a][0]), tri[a][1] + sc * (tri[b][1] - tri[a][1])};
               }
             }
-            (void)pos;  // a crossing or two vertices on the zero: either way two points
+            // A crossing or two vertices on the zero: either way two points.
             if (found < 2) continue;
             const double lx = (seg[1][0] - seg[0][0]) * 0.5 * hx, ly = (seg[1][1] - seg[0][1]) * 0.5 * hy;
             const double length = std::hypot(lx, ly);
             if (length == 0.0) continue;
+            if (crack_has_tip(d, q)) {
+              // Only the crack, not its extension beyond a tip: the piece's middle is
+              // (to round-off) as near the polyline as the extended one.
+              const Point2 mid = physical(view, 0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1]));
+              Point2 on{}, on_ext{}, dir{};
+              xfem::polyline_closest(q.points, mid, on, dir);
+              xfem::polyline_closest(extended[k], mid, on_ext, dir);
+              if (std::hypot(mid[0] - on[0], mid[1] - on[1]) >
+                  std::hypot(mid[0] - on_ext[0], mid[1] - on_ext[1]) + 1e-9 * std::min(hx, hy))
+                continue;
+            }
             // Normal: the gradient of the linear level set on this triangle (towards +).
             const double x0 = tri[0][0], y0 = tri[0][1], x1 = tri[1][0], y1 = tri[1][1];
             const double r0 = tp[0] - tp[2], r1 = tp[1] - tp[2], det = x0 * y1 - x1 * y0;
             double gx = (r0 * y1 - r1 * y0) / det * (2.0 / hx), gy = (x0 * r1 - x1 * r0) / det * (2.0 / hy);
             const double gl = std::hypot(gx, gy);
             gx /= gl, gy /= gl;
-            for (int qp = 0; qp < 3; ++qp) {
-              const double xi = seg[0][0] + g3[qp] * (seg[1][0] - seg[0][0]);
-              const double eta = seg[0][1] + g3[qp] * (seg[1][1] - seg[0][1]);
-              PlateModel::FacePoint fp{};
-              for (int a = 0; a < 4; ++a) {
-                int sl = -1;
-                for (int s2 = 0; s2 < 2; ++s2)
-                  if (model.node_enrichment[static_cast<std::size_t>(2 * en[a] + s2)] == static_cast<int>(k)) sl = s2;
-                const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
-                for (int c = 0; c < 2; ++c) {
-                  fp.dof[2 * a + c] = sl < 0 ? -1 : model.enriched_dof[static_cast<std::size_t>(2 * (2 * en[a] + sl) + c)];
-                  const double jump = sl < 0 ? 0.0 : 2.0 * na;
-                  fp.normal[2 * a + c] = jump * (c == 0 ? gx : gy);
-                  fp.tangential[2 * a + c] = jump * (c == 0 ? gy : -gx);
-                }
-              }
-              fp.weight = d.thickness * length * w3[qp];
-              fp.k_normal = q.stiffness[0];
-              fp.k_tangential = unilateral ? 0.0 : q.stiffness[1];
-              fp.unilateral = unilateral;
-              model.face_points.push_back(fp);
-              if (unilateral) {
-                ++model.unilateral_points;
-                continue;
-              }
-              for (int a = 0; a < 8; ++a) {
-                if (fp.dof[a] < 0) continue;
-                for (int b = 0; b < 8; ++b) {
-                  if (fp.dof[b] < 0 || fp.dof[b] > fp.dof[a]) continue;
-                  model.stiffness.add(fp.dof[a], fp.dof[b],
-                                      fp.weight * (fp.k_normal * fp.normal[a] * fp.normal[b] +
-                                                   fp.k_tangential * fp.tangential[a] * fp.tangential[b]));
-                }
-              }
+            // 3 Gauss points: exact for the Heaviside jumps' products (quadratic
+            // along the piece); 5 where branch functions reach the cell (√r N_a N_b,
+            // smooth there: the tip is not in the cell).
+            const int points = view.tip_functions ? 5 : 3;
+            for (int qp = 0; qp < points; ++qp) {
+              const double gq = points == 5 ? kGl5x[qp] : g3[qp], wq = points == 5 ? kGl5w[qp] : w3[qp];
+              const double xi = seg[0][0] + gq * (seg[1][0] - seg[0][0]);
+              const double eta = seg[0][1] + gq * (seg[1][1] - seg[0][1]);
+              add_point(view, static_cast<int>(k), xi, eta, gx, gy, d.thickness * length * wq);
             }
           }
         }
@@ -2123,7 +2199,8 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
     const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
     for (int c = 0; c < 2; ++c) jump[c] += 2.0 * na * coefficient(v, s.u.data(), true, f, c);
   }
-  // Near a tip of this crack: of the four branch functions only F_1 = √r sin(θ/2) jumps, by 2√r.
+  // Near a tip of this crack: of the four branch functions only F_1 = √r sin(θ/2) jumps, by 2√r
+  // (upper minus lower in the tip's frame: the sign says which face is the positive one).
   for (int f = 0; f < v.count; ++f) {
     if (v.tip[f] < 0 || v.branch[f] != 0) continue;
     const PlateModel::Tip& tip = m.tips[static_cast<std::size_t>(v.tip[f])];
@@ -2132,7 +2209,8 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
     xfem::tip_polar(frame_of(tip), {x, y}, r, theta);
     const int a = v.node[f];
     const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
-    for (int c = 0; c < 2; ++c) jump[c] += 2.0 * std::sqrt(r) * na * coefficient(v, s.u.data(), true, f, c);
+    for (int c = 0; c < 2; ++c)
+      jump[c] += branch_jump_sign(tip) * 2.0 * std::sqrt(r) * na * coefficient(v, s.u.data(), true, f, c);
   }
   Point2 closest{}, dir{};
   xfem::polyline_closest(d.discontinuities[static_cast<std::size_t>(crack)].points, {x, y}, closest, dir);
@@ -2359,7 +2437,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
     }
   for (const PlateModel::FacePoint& fp : m.face_points) {
     double gn = 0.0, gt = 0.0;
-    for (int a = 0; a < 8; ++a)
+    for (int a = 0; a < fp.terms; ++a)
       if (fp.dof[a] >= 0) {
         gn += fp.normal[a] * s.u[static_cast<std::size_t>(fp.dof[a])];
         gt += fp.tangential[a] * s.u[static_cast<std::size_t>(fp.dof[a])];
