@@ -1,5 +1,5 @@
 // Per-step cost of the demonstration scene (docs/coupled2d.md, "Demonstration"):
-// scenes/retaining_wall.json, 2548 frictional disks of a backfill settling
+// scenes/demo/retaining_wall.json, 2912 frictional disks of a backfill settling
 // against a concrete wall with an edge crack and a weep hole, read through the
 // scene reader as `xfdem run` reads it (symplectic Euler, 10 substeps per plate
 // step of 1e-4 s). The backfill first takes kSettleSteps untimed steps (one run,
@@ -40,7 +40,7 @@ Wall& settled_wall() {
   wall = std::make_unique<Wall>();
   try {
     const xfdem::scene::Scene scene =
-        xfdem::scene::load_scene(std::string(XFDEM_SOURCE_DIR) + "/scenes/retaining_wall.json", {});
+        xfdem::scene::load_scene(std::string(XFDEM_SOURCE_DIR) + "/scenes/demo/retaining_wall.json", {});
     if (const xfdem::BuildResult r = wall->world.build(xfdem::scene::coupled2d_desc(scene)); !r.ok()) {
       wall->error = std::string("build: ") + r.message;
       return *wall;

@@ -1,4 +1,4 @@
-// The demonstration scene through the command line (scenes/retaining_wall.json,
+// The demonstration scene through the command line (scenes/demo/retaining_wall.json,
 // written by tools/demo/retaining_wall.py; docs/coupled2d.md, "Demonstration"),
 // shortened to its first 300 plate steps (0.03 s):
 //  - the backfill, released from rest in a lattice whose disks touch nothing,
@@ -38,7 +38,7 @@ Result run(const std::string& args) { return xfdem::testing::run_command(XFDEM_C
 const std::string kShort = " --set time.end=0.03 --set output.every=0.0001";
 
 xfdem::scene::Json wall_scene() {
-  std::ifstream in(xfdem::testing::scene_file("retaining_wall.json"));
+  std::ifstream in(xfdem::testing::scene_file("demo/retaining_wall.json"));
   std::stringstream text;
   text << in.rdbuf();
   return xfdem::scene::parse_json(text.str(), "", true);
@@ -84,7 +84,7 @@ TEST(RetainingWallCli, TheBackfillFallsFreelyUntilItLandsAndTheWallIsUntouched) 
   while (gap - g * h * h * static_cast<double>(landing) * static_cast<double>(landing + 1) / 2 > 0) ++landing;
 
   const fs::path csv = scratch() / "wall.csv";
-  const Result r = run("run " + xfdem::testing::scene_file("retaining_wall.json") + kShort + " --csv " + csv.string());
+  const Result r = run("run " + xfdem::testing::scene_file("demo/retaining_wall.json") + kShort + " --csv " + csv.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Csv c = read_csv(csv);
   ASSERT_EQ(c.rows.size(), 301u);
@@ -133,7 +133,7 @@ TEST(RetainingWallCli, TheBackfillFallsFreelyUntilItLandsAndTheWallIsUntouched) 
 // 2912 disks, more than split_from (1000): two workers run the DEM in two parts.
 TEST(RetainingWallCli, SameBytesOnOneAndTwoWorkers) {
   const fs::path a = scratch() / "one.csv", b = scratch() / "two.csv";
-  const std::string scene = xfdem::testing::scene_file("retaining_wall.json");
+  const std::string scene = xfdem::testing::scene_file("demo/retaining_wall.json");
   const Result r1 = run("run " + scene + kShort + " --csv " + a.string());
   ASSERT_EQ(r1.exit_code, 0) << r1.err;
   const Result r2 = run("run " + scene + kShort + " --threads 2 --csv " + b.string());

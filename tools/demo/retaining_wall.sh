@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The retaining-wall demonstration (docs/coupled2d.md, "Demonstration"): runs
-# scenes/retaining_wall.json and its intact counterpart through the CLI (CSV
+# scenes/demo/retaining_wall.json and its intact counterpart through the CLI (CSV
 # and VTK into out/demo/), then draws docs/figures/retaining_wall_*.png.
 # About two minutes of one core per scene on an idle machine; both run at once.
 # Needs a release build (cmake --preset release && cmake --build --preset release).
@@ -18,8 +18,8 @@ mkdir -p out/demo
 pids=()
 for scene in retaining_wall retaining_wall_intact; do
   rm -rf "out/demo/vtk_$scene"
-  echo "retaining_wall.sh: $cli run scenes/$scene.json --set output.every=$every --csv out/demo/$scene.csv --vtk out/demo/vtk_$scene"
-  "$cli" run "scenes/$scene.json" --set "output.every=$every" --csv "out/demo/$scene.csv" --vtk "out/demo/vtk_$scene" &
+  echo "retaining_wall.sh: $cli run scenes/demo/$scene.json --set output.every=$every --csv out/demo/$scene.csv --vtk out/demo/vtk_$scene"
+  "$cli" run "scenes/demo/$scene.json" --set "output.every=$every" --csv "out/demo/$scene.csv" --vtk "out/demo/vtk_$scene" &
   pids+=($!)
 done
 for pid in "${pids[@]}"; do wait "$pid"; done

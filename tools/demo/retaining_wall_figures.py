@@ -3,8 +3,8 @@
 
     retaining_wall_figures.py --out DIR WALL.csv WALL_VTK_DIR INTACT.csv INTACT_VTK_DIR
 
-WALL.csv / WALL_VTK_DIR: `xfdem run scenes/retaining_wall.json --csv ... --vtk ...`;
-INTACT.csv / INTACT_VTK_DIR: the same for scenes/retaining_wall_intact.json.
+WALL.csv / WALL_VTK_DIR: `xfdem run scenes/demo/retaining_wall.json --csv ... --vtk ...`;
+INTACT.csv / INTACT_VTK_DIR: the same for scenes/demo/retaining_wall_intact.json.
 Writes to DIR:
   retaining_wall_scene.png    the last sample of the cracked wall: the disks coloured by the
                               magnitude of their contacts' elastic normal
@@ -193,6 +193,16 @@ def history_figure(wall, intact, out, gamma, height):
         parts = [f"thrust {thrust(c)[late].mean():.5g} N/m (sd {thrust(c)[late].std():.3g})"]
         parts += [f"{k} {c[k][late].mean():.5g} (sd {c[k][late].std():.3g})" for k in keys]
         print(f"{name}, means over t >= {0.8 * t[-1]:.3g} s ({late.sum()} rows): " + ", ".join(parts))
+    for name, c in (("cracked", wall), ("intact", intact)):
+        h, drag = thrust(c), sum(v for k, v in c.items() if k.startswith("ft_"))
+        late = c["t"] >= 0.8 * c["t"][-1]
+        print(f"{name}: first force on the wall at t = {c['t'][np.argmax(h > 0)]:.4g} s; thrust peak {h.max():.5g} N/m "
+              f"at t = {c['t'][np.argmax(h)]:.4g} s; top u_x least {c['top_ux'].min():.4g} m at "
+              f"t = {c['t'][np.argmin(c['top_ux'])]:.4g} s; kinetic energy peak {c['E_kinetic'].max():.5g} J; "
+              f"late means: drag {drag[late].mean():.4g} N/m, thrust / (½ γ H²) "
+              f"{h[late].mean() / (0.5 * gamma * height ** 2):.3g}")
+    print(f"cracked: outer K_I peak at t = {t[np.argmax(wall['K_I_face'])]:.4g} s, opening peak at "
+          f"t = {t[np.argmax(wall['opening'])]:.4g} s")
     print(f"cracked at t = {t[-1]:.4g} s: outer tip K_I {wall['K_I_face'][-1]:.6g} Pa√m, "
           f"K_II {wall['K_II_face'][-1]:.6g} Pa√m; inner tip K_I {wall['K_I_inner'][-1]:.6g} Pa√m; "
           f"opening {wall['opening'][-1]:.6g} m; peaks over the run: outer K_I {wall['K_I_face'].max():.6g}, "
