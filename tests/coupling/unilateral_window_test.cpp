@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/coupled_scenes.hpp"
+#include "xfdem/platform/alloc_guard.hpp"
 
 namespace xfdem::testing {
 namespace {
@@ -67,6 +68,7 @@ TEST(CoupledUnilateral, TopForceIsTheContactLawOfBothHalvesEndsAtEveryStep) {
   long blends = 0, spread_blends = 0, contacts = 0, flagged = 0;
   double worst = 0, worst_over_bound = 0, widest = 0;
   const long steps = std::lround(10.0 / dt);
+  platform::AllocationCounter counter;  // the blends included
   for (long k = 0; k < steps; ++k) {
     if (w.step() != StepStatus::ok) ++flagged;
     blends += w.workspace.last_blend;
@@ -99,6 +101,7 @@ TEST(CoupledUnilateral, TopForceIsTheContactLawOfBothHalvesEndsAtEveryStep) {
     widest = std::max(widest, spread);
     EXPECT_LE(error, bound) << "step " << k + 1 << ": force " << force << " N, law " << law << " N";
   }
+  EXPECT_EQ(counter.allocations(), 0u);
   std::printf("unilateral (1/4, 1/2) Case II variant: %ld steps, %ld in contact, %ld blended windows (%ld whose ends' "
               "tops are more than 100 round-off bounds / K apart, widest %.3g m = %.3g of the weight times 1/K), %ld "
               "flagged; worst |F - (K d + eta d')| %.3g N = %.3g of the weight, %.3g of the round-off bound\n",
