@@ -494,6 +494,12 @@ def cases_coupled():
         ("c1_xfem_nontensile", "xfem", 3.3, (0.3025, 0.6), "rk4", 3, False),
         ("c1_xfem_unilateral", "xfem", 3.3, (0.3025, 0.6), "abm4", 10, False),
         ("c2_fem_unilateral_seuler_n13", "fem", 5.9, (0.3025, 0.6), "symplectic_euler", 13, True),
+        # the unilateral cases under the trapezoidal rule too, whose bar locates
+        # its switches inside a step: a window's jump whose two ends see the
+        # interface in two states ends in the blend of both halves' ends
+        ("c1_xfem_unilateral_trap", "xfem", 3.3, (0.25, 0.5), "abm4", 10, False),
+        ("c2_fem_unilateral_seuler_n13_trap", "fem", 5.9, (0.25, 0.5), "symplectic_euler", 13, True),
+        ("c2_fem_unilateral_verlet_n4_trap", "fem", 5.9, (0.25, 0.5), "verlet", 4, True),
         ("c1_no_interface", "fem", None, (0.3025, 0.6), "verlet", 2, False),
     ]:
         parts = [(m1, r1, k1, L + r1 + 0.4)]
@@ -509,15 +515,22 @@ def cases_coupled():
         W = W1 + (W2 if two else 0)
         top = L - W / ks - W * L / (E * A) - (W / k_if if xi is not None else 0.0)
         y1 = top + r1 - W / k1
-        # the settled state: springs in series under the weights
-        report(nm + " settled y1", abs(out["y1"][-1] - y1) / (W / k1), 1e-6,
-               "static closed form; transients decayed to < 1e-6")
-        if two:
+        # the settled state: springs in series under the weights. Not for the
+        # unilateral rods under (1/4, 1/2): the scheme damps no mode, and at
+        # 10 s their contact force still rings at 1e-4 ... 2e-3 of the weight
+        # (decaying by about 2 % in 10 s; a tied rod under (1/4, 1/2): 3e-7),
+        # so the static state is not reached within the run
+        settles = not nm.endswith("_trap")
+        if settles:
+            report(nm + " settled y1", abs(out["y1"][-1] - y1) / (W / k1), 1e-6,
+                   "static closed form; transients decayed to < 1e-6")
+        if two and settles:
             k12 = k1 * k2 / (k1 + k2)
             y2 = y1 + r1 + r2 - W2 / k12
             report(nm + " settled y2", abs(out["y2"][-1] - y2) / (W2 / k12), 1e-6,
                    "static closed form; transients decayed to < 1e-6")
-        report(nm + " settled F", abs(out["F1"][-1] - W) / W, 1e-6, "contact force = weight")
+        if settles:
+            report(nm + " settled F", abs(out["F1"][-1] - W) / W, 1e-6, "contact force = weight")
         # the contact_force probes from the CSV's own positions and velocities;
         # the particles see the top move at its step's mean speed
         # (u_{n+1} - u_n)/dt (docs/coupling.md), which their dashpot uses

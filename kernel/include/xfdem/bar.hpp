@@ -72,6 +72,10 @@ struct BarDesc {
   /// bar_step()). Beyond it the step is taken whole, under the energy rule of
   /// bar_step(), and counted in BarWorkspace::last_unlocated.
   int max_interface_events = 64;
+  /// Unilateral interface: the energy rule of bar_step() (on by default). Off
+  /// only to measure what it costs in accuracy: a step may then gain energy
+  /// at a switch, which the energy check reports (docs/stability.md).
+  bool energy_rule = true;
   /// The energy balance check of bar_step(): Ê ≤ Ê0 + W (see BarState::energy).
   EnergyCheck energy_check;
   /// Upper bound on the number of unknowns; 0 sizes everything to the mesh.
@@ -266,6 +270,24 @@ BuildResult build_bar(const BarDesc& desc, BarModel& model, BarState& state, Bar
 /// bar_resolve_acceleration() with its input (the coupled window's pattern),
 /// with the bar's own energy check off (a check already taken is not redone).
 StepStatus bar_adjust_step_input(const BarModel& model, BarState& state, BarWorkspace& workspace, double tip_force);
+
+/// Blends the two ends of one step taken from the same state under two tip
+/// forces (the coupled window at a jump of its impulse, docs/coupling.md):
+/// into = (1 − θ)·into + θ·other for u, v, a, the tip input and the books (the
+/// books' peak the larger; equal values kept as they are). A unilateral
+/// interface whose active set differs at the two ends is closed at the blend
+/// when its blended gap is < 0 and the open end's gap ≥ 0, and open otherwise:
+/// then ½k g² of the blend is at most the blend of the ends' (so is the rest
+/// of Ê, convex), and the blend creates no energy. Where bar_step() locates
+/// switches (under (¼, ½), whose Ê does not weigh a, and not at a sliver
+/// cut), a is moved along M⁻¹g to hold that set's spring force, as at a
+/// located switch (a blend of the ends' a holds the blend of theirs; a held
+/// opening's a holds one with the set open). `into_held_open` and `other_held_open` are the
+/// BarWorkspace::last_held_open of the steps that made them. Returns false,
+/// changing nothing, unless both have the same sizes and step count and
+/// 0 < θ < 1. No allocation.
+bool bar_blend_step_ends(const BarModel& model, BarState& into, const BarState& other, double theta,
+                         int into_held_open, int other_held_open);
 
 /// Only the validation of build_bar() (no allocation), for tools that check input first.
 BuildResult validate_bar(const BarDesc& desc);

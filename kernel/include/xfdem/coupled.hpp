@@ -156,6 +156,9 @@ struct CoupledWorkspace {
   BarState bar_start;     ///< the bar at t_n
   /// The particles at one end of a window whose impulse jumps (coupled_step).
   DemState<1> dem_end;
+  /// The bar at that end, when it is stepped at every pass (a unilateral
+  /// interface): the window ends in the blend of both halves' two ends.
+  BarState bar_end;
   /// The particles after a window's first pass, kept when a second pass may
   /// measure CoupledState::sensitivity.
   DemState<1> dem_first;
@@ -168,6 +171,13 @@ struct CoupledWorkspace {
   /// force was affine as far as the signature can tell (no located event).
   std::int64_t pass_signature = 0;
   bool pass_affine = false;
+  /// Whether the last window ended on the blend of two ends at a jump of its
+  /// impulse (the particles, and a bar stepped at every pass) rather than on
+  /// a pass; and, for a bar stepped at every pass, |u_tip| between its two
+  /// ends (m; 0 otherwise), which a blend of the particles alone would have
+  /// left between the halves.
+  bool last_blend = false;
+  double last_blend_tip_spread = 0;
 };
 
 /// Builds both halves; the only allocating call. Messages name the field

@@ -106,6 +106,7 @@ BuildResult build_coupled_sized(const CoupledDesc& desc, const DemDesc<1>& dem, 
   w.dem_start = s.dem;
   w.bar_start = s.bar;
   w.dem_end = s.dem;
+  w.bar_end = s.bar;
   w.dem_first = s.dem;
   return BuildResult::success();
 }
@@ -141,6 +142,7 @@ BuildResult build_coupled(const CoupledDesc& desc, CoupledModel& m, CoupledState
     w.dem_start = DemState<1>{};
     w.bar_start = BarState{};
     w.dem_end = DemState<1>{};
+    w.bar_end = BarState{};
     w.dem_first = DemState<1>{};
     return prefixed("dem.", dem_detail::memory_refusal(dem, memory, kDemStates, kDemStatesNote, desc.max_memory_bytes, true));
   }
@@ -332,6 +334,8 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
   if (!m.bar.built || m.dem.accelerations == nullptr) return StepStatus::not_built;
   dem_copy_state(w.dem_start, s.dem);
   w.bar_start = s.bar;
+  w.last_blend = false;
+  w.last_blend_tip_spread = 0;
   // A non-finite start is stepped once and reported, like a non-finite pass.
   StepStatus status = start_finite(m, s) ? StepStatus::ok : StepStatus::non_finite;
   // The bar also takes back what earlier windows left unbalanced.
@@ -426,14 +430,34 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
         scale;
     if (have_lo && have_hi && std::fabs(hi - lo) <= resolution) {
       const double f_other = f == lo ? hi : lo;
-      const double J_here = J;
+      const double J_here = J, f_here = f, g_here = g;
       dem_copy_state(w.dem_end, s.dem);
+      // A bar stepped at every pass ends the pass at each end on its own
+      // state, and a unilateral interface may switch between the two: its
+      // top then moves differently at the two ends (a tied bar's by the
+      // tolerance), so the bar is blended too, with the particles' weight.
+      const bool blend_bar = !m.bar.linear_in_tip_force;
+      const int held_here = w.bar.last_held_open;
+      if (blend_bar) w.bar_end = s.bar;  // same sizes: element-wise copies, no allocation
       status |= window_pass(m, s, w, f_other + carried, true, J);
       if (has(status, kStepNotTaken)) return status;
       ++passes;
       f = f_other;
-      const double theta = (-f * m.dt - J) / (J_here - J);  // J_θ = (1 − θ) J + θ J_here = −f dt
-      if (theta > 0.0 && theta < 1.0 && blend_particles(s.dem, w.dem_end, theta)) {
+      // Both halves blended: the bar received (1 − θ) f + θ f_here, the
+      // particles took (1 − θ) J + θ J_here, and θ zeroes the blend of the
+      // two ends' residuals g. Only the particles blended: the bar keeps f,
+      // and θ makes the particles' impulse −f dt.
+      const double theta = blend_bar ? (-J / m.dt - f) / ((-J / m.dt - f) - g_here) : (-f * m.dt - J) / (J_here - J);
+      if (theta > 0.0 && theta < 1.0 &&
+          (!blend_bar || (w.bar_end.step == s.bar.step && w.bar_end.u.size() == s.bar.u.size())) &&
+          blend_particles(s.dem, w.dem_end, theta)) {
+        w.last_blend = true;
+        if (blend_bar) {
+          w.last_blend_tip_spread =
+              std::fabs(bar_tip_displacement(m.bar, s.bar) - bar_tip_displacement(m.bar, w.bar_end));
+          (void)bar_blend_step_ends(m.bar, s.bar, w.bar_end, theta, w.bar.last_held_open, held_here);  // checked above
+          f = (1.0 - theta) * f + theta * f_here;
+        }
         J = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];
         settled = true;
       } else {

@@ -970,7 +970,7 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
       s = whole_step();
     }
   }
-  if (model.unilateral && zero_if_finite == 0.0) {
+  if (model.unilateral && model.desc.energy_rule && zero_if_finite == 0.0) {
     double left = 0.0;
     const auto rule = [&] {
       left = 0.0;
@@ -1059,6 +1059,47 @@ StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& 
   StepStatus s = StepStatus::ok;
   if (!(zero_if_finite == 0.0) || !ledger_finite(st)) s |= StepStatus::non_finite;
   return s;
+}
+
+bool bar_blend_step_ends(const BarModel& m, BarState& into, const BarState& other, double theta, int into_held_open,
+                         int other_held_open) {
+  if (!m.built || !(theta > 0.0 && theta < 1.0) || into.u.size() != other.u.size() || into.step != other.step)
+    return false;
+  const auto blend = [theta](double& x, double y) {
+    if (x != y) x = (1.0 - theta) * x + theta * y;  // equal values keep their bits
+  };
+  // The spring force each end's a holds (a held opening's a keeps it with the set open).
+  const double carried_into = into.interface_closed != 0 || into_held_open != 0 ? detail::bar_gap_of(m, into.u.data()) : 0.0;
+  const double carried_other =
+      other.interface_closed != 0 || other_held_open != 0 ? detail::bar_gap_of(m, other.u.data()) : 0.0;
+  const double gap_into = detail::bar_gap_of(m, into.u.data()), gap_other = detail::bar_gap_of(m, other.u.data());
+  for (std::size_t i = 0; i < into.u.size(); ++i) {
+    blend(into.u[i], other.u[i]);
+    blend(into.v[i], other.v[i]);
+    blend(into.a[i], other.a[i]);
+  }
+  blend(into.tip_input, other.tip_input);
+  blend(into.input_work, other.input_work);
+  blend(into.energy.work, other.energy.work);
+  into.energy.peak = std::max(into.energy.peak, other.energy.peak);
+  into.energy.exceeded = std::max(into.energy.exceeded, other.energy.exceeded);
+  if (!m.unilateral || (into.interface_closed == other.interface_closed && into_held_open == 0 && other_held_open == 0))
+    return true;
+  const double gap = detail::bar_gap_of(m, into.u.data());
+  if (into.interface_closed != other.interface_closed) {
+    // (1 − θ)g₁ + θg₂ < 0 with the open end's g ≥ 0 bounds g² by the closed
+    // end's weight times its g², whose ½k g² that end's energy holds.
+    const double open_gap = into.interface_closed != 0 ? gap_other : gap_into;
+    into.interface_closed = gap < 0.0 && open_gap >= 0.0 ? 1 : 0;
+  }
+  // As at a located switch (step_with_events): not at a sliver cut, whose
+  // phantom M⁻¹g is huge and the next predictor would round into energy.
+  if (locates_interface_events(m)) {
+    const double carried = (1.0 - theta) * carried_into + theta * carried_other;
+    const double spring = m.interface_stiffness * (carried - (into.interface_closed != 0 ? gap : 0.0));
+    if (spring != 0.0) add_scaled(into.a.data(), spring, m.gap_unit_acceleration.data(), into.a.size());
+  }
+  return true;
 }
 
 double bar_displacement(const BarModel& model, const BarState& state, double x) { return field_at(model, state.u, x); }
