@@ -21,9 +21,11 @@
 //     acceleration at t_n re-evaluated with that force, so that Newmark
 //     delivers exactly its impulse).
 // The two depend on each other: the window is iterated to the fixed point
-// f̄ = −J(f̄)/dt (a vector over the plate's unknowns) by Aitken-relaxed
-// fixed-point passes (a window that circles a jump of J is taken at its
-// smallest residual: kCoupled2dStallPasses). The plate then takes the step with −J/dt of the last
+// f̄ = −J(f̄)/dt (a vector over the plate's unknowns) by interface
+// quasi-Newton passes (IQN-ILS); at a jump of J (a contact closing at another
+// substep as f̄ moves, where no fixed point exists) the window ends in the
+// blend of two passes on its two sides, brought together by bisection, as
+// the 1D stepper blends (kCoupled2dHistory and below). The plate then takes the step with −J/dt of the last
 // pass, so the exchange is impulse-conserving at every step (and carries the
 // moment: plate_spread_force), and at the fixed point both sides saw the same
 // boundary motion, so the exchange does no net work.
@@ -99,15 +101,26 @@ struct Coupled2dModel {
 /// A window has settled when |g| ≤ this × (|f̄| + |J/dt|) (Euclidean norms
 /// over the plate's unknowns), g = −J/dt − f̄: the 1D stepper's tolerance.
 inline constexpr double kCoupled2dTolerance = 1e-10;
-/// A window whose smallest residual has not improved for this many passes
-/// (or after kCoupled2dMaxPasses) circles a jump of J (a contact closing or
-/// opening at another substep as f̄ moves: no fixed point exists). It is
-/// taken at its smallest residual, which the state records
+/// The window's passes are interface quasi-Newton steps (IQN-ILS): the
+/// least-squares fit of the residual's changes over the window's last
+/// kCoupled2dHistory passes is the map's Jacobian on their span, Picard's
+/// step on the rest.
+inline constexpr int kCoupled2dHistory = 16;
+/// A contact that closes or opens at another substep (or stage) as f̄ moves
+/// makes J jump: no force may be a fixed point. Where two passes lie on the
+/// two sides of such a jump, close enough that the blend of their residuals,
+/// (1 − θ) g_a + θ g_b, is within the tolerance for some 0 < θ < 1, the
+/// window ends in the same blend of the two passes' disk states and
+/// impulses (as the 1D stepper blends at a jump): its impulse is the
+/// plate's, and its energy at most the blend of theirs
+/// (Coupled2dState::blended_windows).
+/// A window whose smallest residual has not improved for
+/// kCoupled2dStallPasses passes (or after kCoupled2dMaxPasses) is taken at
+/// its smallest residual, which the state records
 /// (Coupled2dState::unsettled_windows, worst_unsettled); above
 /// kCoupled2dJumpTolerance the step also says coupling_unstable. The plate
 /// still takes exactly the disks' impulse; what is not exact there is the
-/// boundary motion the disks saw, off by the plate's response to g. (The 1D
-/// stepper instead blends the two sides of the jump; not ported yet.)
+/// boundary motion the disks saw, off by the plate's response to g.
 inline constexpr int kCoupled2dStallPasses = 6;
 inline constexpr int kCoupled2dMaxPasses = 100;
 inline constexpr double kCoupled2dJumpTolerance = 1e-6;
@@ -146,6 +159,8 @@ struct Coupled2dState {
   /// Windows taken at their smallest residual (a jump), and the largest such |g|/scale.
   std::int64_t unsettled_windows = 0;
   double worst_unsettled = 0;
+  /// Windows that ended in the blend of two passes across a jump of J.
+  std::int64_t blended_windows = 0;
   std::int64_t step = 0;
   double time = 0;
 
@@ -172,6 +187,7 @@ struct Coupled2dState {
     visit("", "peak_passes", &peak_passes, std::size_t{1});
     visit("", "unsettled_windows", &unsettled_windows, std::size_t{1});
     visit("", "worst_unsettled", &worst_unsettled, std::size_t{1});
+    visit("", "blended_windows", &blended_windows, std::size_t{1});
     visit("", "step", &step, std::size_t{1});
     visit("", "time", &time, std::size_t{1});
   }
@@ -186,7 +202,20 @@ struct Coupled2dWorkspace {
   std::vector<double> start_positions, end_positions, positions;  ///< boundary vertices (2 each)
   std::vector<double> impulse;  ///< the pass's impulse to the plate, per unknown
   std::vector<double> residual, previous_residual, best_force;
-  double relaxation = 1;
+  /// The quasi-Newton's columns (kCoupled2dHistory of dofs each, a ring):
+  /// the changes of the residual and of the map's output −J/dt between
+  /// passes; its QR factor's Q (as many) and R, and the fit's coefficients.
+  std::vector<double> history_residual, history_output, q, r, coefficients;
+  std::vector<double> previous_output;
+  /// Passes kept for a blend across a jump: [0] the last, [1] the other
+  /// side of a jump while the two are brought together by bisection.
+  struct Pass {
+    DemState<2> dem;
+    Coupled2dSprings springs;
+    std::vector<double> residual, force, impulse;
+    double taken[2] = {0, 0}, work = 0, scale = 0;
+  };
+  Pass kept[2];
   /// What the DEM's external contact hook reads (set by each step; the
   /// workspace is its context).
   const Coupled2dModel* stage_model = nullptr;

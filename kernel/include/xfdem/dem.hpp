@@ -536,6 +536,18 @@ void dem_inputs_changed(DemState<D>& state);
 template <int D>
 void dem_copy_state(DemState<D>& to, const DemState<D>& from);
 
+/// into = (1 − θ)·into + θ·other for two states of one model, field by field
+/// through the state's one list of fields, as a coupled window blends the
+/// particles of its passes on the two sides of a jump of its map (a contact
+/// closing at another substep). Equal values are kept as they are (a blend
+/// of equal values could move them by an ulp); bounds (network_omega2,
+/// energy_peak) take the larger. Returns false, changing nothing, unless
+/// every integer field (pair list, history ring, counters) is the same in
+/// both: then the two differ only in values, and the blend is a state the
+/// window could have ended in.
+template <int D>
+bool dem_blend_state(DemState<D>& into, const DemState<D>& other, double theta);
+
 /// Stable step factor y = ω h of an integrator for one linear contact with
 /// damping ratio ζ: the largest ω h at which one undamped contact period
 /// (2π/(ω h) steps) amplifies the free response by at most 1 %. See docs/dem.md.

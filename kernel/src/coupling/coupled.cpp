@@ -223,39 +223,6 @@ bool start_finite(const CoupledModel& m, const CoupledState& s) {
   return sum == 0.0;
 }
 
-/// Blends the particles' state of the window's two ends at a jump of J (see
-/// coupled_step): into = (1 − θ)·into + θ·other, field by field through the
-/// state's one list of fields. Equal values are kept as they are (a blend of
-/// equal values could move them by an ulp); bounds take the larger. Returns
-/// false, changing nothing, unless every integer field (pair list, history
-/// ring, counters) is the same in both: then the two ends differ only in
-/// values, and the blend is a state the window could have ended in.
-bool blend_particles(DemState<1>& into, const DemState<1>& other, double theta) {
-  bool same = true;
-  into.for_each_array(
-      [&](const char*, auto* data, auto count, auto o) {
-        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-        if (o.count != static_cast<std::size_t>(count)) same = false;
-        if constexpr (!std::is_same_v<T, double>)
-          for (std::size_t i = 0; same && i < o.count; ++i) same = data[i] == o.data[i];
-      },
-      other);
-  if (!same) return false;
-  into.for_each_array(
-      [&](const char* name, auto* data, auto count, auto o) {
-        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-        if constexpr (std::is_same_v<T, double>) {
-          const bool bound = std::strcmp(name, "network_omega2") == 0 || std::strcmp(name, "energy_peak") == 0;
-          for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
-            if (data[i] == o.data[i]) continue;
-            data[i] = bound ? std::max(data[i], o.data[i]) : (1.0 - theta) * data[i] + theta * o.data[i];
-          }
-        }
-      },
-      other);
-  return true;
-}
-
 /// Whether a double of the particles' state moves with the window's force as
 /// the state does (affinely, within one contact set). The network's frequency
 /// bound and the particles' own energy books do not: the bound is the contact
@@ -450,7 +417,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
       const double theta = blend_bar ? (-J / m.dt - f) / ((-J / m.dt - f) - g_here) : (-f * m.dt - J) / (J_here - J);
       if (theta > 0.0 && theta < 1.0 &&
           (!blend_bar || (w.bar_end.step == s.bar.step && w.bar_end.u.size() == s.bar.u.size())) &&
-          blend_particles(s.dem, w.dem_end, theta)) {
+          dem_blend_state(s.dem, w.dem_end, theta)) {
         w.last_blend = true;
         if (blend_bar) {
           w.last_blend_tip_spread =

@@ -305,6 +305,126 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
   return status;
 }
 
+
+double dot(const double* a, const double* b, std::size_t n) {
+  double s = 0;
+  for (std::size_t k = 0; k < n; ++k) s += a[k] * b[k];
+  return s;
+}
+
+/// The next force of the window, IQN-ILS: the coefficients c that fit the
+/// residual's changes V of the last passes to −g (least squares, by a QR of
+/// V, newest column first, a column dropped where it adds less than 1e-8 of
+/// its length to those before it), then f = −J/dt + W c, W the output's
+/// changes. With no columns, Picard's f = −J/dt. `force` enters as the last
+/// pass's, w.residual and w.previous_output hold its g and −J/dt.
+void quasi_newton_step(Coupled2dWorkspace& w, int columns, int newest, std::vector<double>& force) {
+  const std::size_t n = force.size();
+  constexpr auto H = static_cast<std::size_t>(kCoupled2dHistory);
+  int kept = 0, slot_of[kCoupled2dHistory];
+  for (int j = 0; j < columns; ++j) {
+    const int slot = (newest - j + kCoupled2dHistory) % kCoupled2dHistory;
+    const double* v = w.history_residual.data() + static_cast<std::size_t>(slot) * n;
+    double* qk = w.q.data() + static_cast<std::size_t>(kept) * n;
+    for (std::size_t k = 0; k < n; ++k) qk[k] = v[k];
+    const double length = std::sqrt(dot(v, v, n));
+    for (int i = 0; i < kept; ++i) {  // modified Gram–Schmidt
+      const double* qi = w.q.data() + static_cast<std::size_t>(i) * n;
+      const double rik = dot(qi, qk, n);
+      for (std::size_t k = 0; k < n; ++k) qk[k] -= rik * qi[k];
+      w.r[static_cast<std::size_t>(i) * H + static_cast<std::size_t>(kept)] = rik;
+    }
+    const double rkk = std::sqrt(dot(qk, qk, n));
+    if (!(rkk > 1e-8 * length)) continue;
+    for (std::size_t k = 0; k < n; ++k) qk[k] /= rkk;
+    w.r[static_cast<std::size_t>(kept) * H + static_cast<std::size_t>(kept)] = rkk;
+    slot_of[kept++] = slot;
+  }
+  // R c = −Qᵀ g, by back substitution.
+  for (int i = kept - 1; i >= 0; --i) {
+    double b = -dot(w.q.data() + static_cast<std::size_t>(i) * n, w.residual.data(), n);
+    for (int j = i + 1; j < kept; ++j)
+      b -= w.r[static_cast<std::size_t>(i) * H + static_cast<std::size_t>(j)] * w.coefficients[static_cast<std::size_t>(j)];
+    w.coefficients[static_cast<std::size_t>(i)] = b / w.r[static_cast<std::size_t>(i) * H + static_cast<std::size_t>(i)];
+  }
+  for (std::size_t k = 0; k < n; ++k) force[k] = w.previous_output[k];
+  for (int i = 0; i < kept; ++i) {
+    const double c = w.coefficients[static_cast<std::size_t>(i)];
+    const double* dh = w.history_output.data() + static_cast<std::size_t>(slot_of[i]) * n;
+    for (std::size_t k = 0; k < n; ++k) force[k] += c * dh[k];
+  }
+}
+
+/// This pass (g in w.residual, the disks in s) against a kept one: the θ
+/// that brings the blend (1 − θ) g + θ g_kept nearest 0, whether that blend
+/// is within the tolerance (of the blend of their scales), and whether the
+/// two passes' forces (the boundary motions their disks saw) are within the
+/// tolerance of each other, as a settled pass's is of its own impulse.
+struct Straddle {
+  double theta = -1;
+  bool blend_settles = false, close = false;
+  bool across() const { return theta > 0.0 && theta < 1.0; }
+};
+Straddle straddle(const Coupled2dWorkspace& w, const Coupled2dWorkspace::Pass& p, double scale) {
+  const std::size_t n = w.residual.size();
+  const std::vector<double>& force = w.plate.external_force;
+  double dd = 0, gd = 0, ff = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double d = p.residual[k] - w.residual[k];
+    dd += d * d, gd += w.residual[k] * d;
+    ff += (force[k] - p.force[k]) * (force[k] - p.force[k]);
+  }
+  Straddle out;
+  if (!(dd > 0)) return out;
+  out.theta = -gd / dd;
+  if (!out.across()) return out;
+  double blended = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double g = (1.0 - out.theta) * w.residual[k] + out.theta * p.residual[k];
+    blended += g * g;
+  }
+  const double tolerance = kCoupled2dTolerance * std::min(scale, p.scale);
+  out.blend_settles = std::sqrt(blended) <= tolerance;
+  out.close = std::sqrt(ff) <= tolerance;
+  return out;
+}
+
+/// Keeps this pass (the disks in s, the rest in w) as `p`.
+void keep_pass(const Coupled2dModel& m, const Coupled2dState& s, Coupled2dWorkspace& w, Coupled2dWorkspace::Pass& p,
+               double scale, const double taken[2], double work) {
+  dem_copy_state(p.dem, s.dem);
+  if (m.rotating) p.springs = s.springs;
+  p.residual = w.residual;
+  p.force = w.plate.external_force;
+  p.impulse = w.impulse;
+  p.taken[0] = taken[0], p.taken[1] = taken[1];
+  p.work = work, p.scale = scale;
+}
+
+/// The window's end across a jump of J: this pass and the kept pass `p`
+/// blended, (1 − θ)·this + θ·p: the disks' states (and springs), the
+/// impulse, the force, the books alike; the plate is stepped again with the
+/// blended impulse at the window's end. False, changing nothing, when the
+/// two differ in more than values (their pair lists, their contacts' chains).
+bool blend_passes(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w,
+                  const Coupled2dWorkspace::Pass& p, double theta, double taken[2], double& work) {
+  if (m.rotating && p.springs.chain != s.springs.chain) return false;
+  if (!dem_blend_state(s.dem, p.dem, theta)) return false;
+  if (m.rotating)
+    for (std::size_t k = 0; k < s.springs.xi.size(); ++k) {
+      s.springs.xi[k] = (1.0 - theta) * s.springs.xi[k] + theta * p.springs.xi[k];
+      s.springs.normal[k] = (1.0 - theta) * s.springs.normal[k] + theta * p.springs.normal[k];
+    }
+  std::vector<double>& force = w.plate.external_force;
+  for (std::size_t k = 0; k < force.size(); ++k) {
+    w.impulse[k] = (1.0 - theta) * w.impulse[k] + theta * p.impulse[k];
+    force[k] = (1.0 - theta) * force[k] + theta * p.force[k];
+  }
+  for (int axis = 0; axis < 2; ++axis) taken[axis] = (1.0 - theta) * taken[axis] + theta * p.taken[axis];
+  work = (1.0 - theta) * work + theta * p.work;
+  return true;
+}
+
 }  // namespace
 
 BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
@@ -425,6 +545,13 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   w.residual.assign(dofs, 0.0);
   w.previous_residual.assign(dofs, 0.0);
   w.best_force.assign(dofs, 0.0);
+  constexpr auto history = static_cast<std::size_t>(kCoupled2dHistory);
+  w.history_residual.assign(history * dofs, 0.0);
+  w.history_output.assign(history * dofs, 0.0);
+  w.q.assign(history * dofs, 0.0);
+  w.r.assign(history * history, 0.0);
+  w.coefficients.assign(history, 0.0);
+  w.previous_output.assign(dofs, 0.0);
   if (rotating) {
     const auto slots = static_cast<std::size_t>(m.dem.n) * kPlateBoundaryMaxContacts;
     s.springs.chain.assign(slots, -1);
@@ -438,6 +565,13 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   if (!held)
     for (auto& f : s.boundary_force) f.assign(static_cast<std::size_t>(m.dem.n), 0.0);
   w.dem_start = s.dem;
+  for (Coupled2dWorkspace::Pass& p : w.kept) {
+    p.dem = s.dem;
+    p.springs = s.springs;
+    p.residual.assign(dofs, 0.0);
+    p.force.assign(dofs, 0.0);
+    p.impulse.assign(dofs, 0.0);
+  }
   w.plate_start = s.plate;
   m.built = true;
   return BuildResult::success();
@@ -469,9 +603,9 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   const auto dofs = force.size();
   StepStatus status = StepStatus::ok;
   double taken[2] = {0, 0}, work_by_particles = 0;
-  int passes = 0, best_pass = 0;
+  int passes = 0, best_pass = 0, columns = 0, newest = -1;
   double best = INFINITY;  // the smallest |g|/scale seen, at w.best_force
-  bool last_is_best = false;
+  bool last_is_best = false, bisecting = false;
   while (true) {
     StepStatus pass = window_pass(m, s, w, taken, work_by_particles);
     ++passes;
@@ -488,9 +622,47 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
       status |= pass;
       break;
     }
-    // A contact that closes or opens at another substep as f̄ moves makes J
-    // jump: no force is a fixed point, and the passes circle the jump. The
-    // window then takes the pass with the smallest residual.
+    // This pass and a kept one on the two sides of a jump of J (a contact
+    // closing at another substep or stage: no force is a fixed point there):
+    // where the blend (1 − θ) g + θ g_kept of their residuals nearest 0 is
+    // within the tolerance and the two forces are too, the window ends in
+    // that blend of the two, as the 1D stepper's does. Where the blend
+    // settles but the forces are apart and the quasi-Newton steps have
+    // stopped improving, the two are brought together by bisection, each
+    // new pass taking the place of the kept one on its side.
+    bool blended = false;
+    for (int side = 0; passes > 1 && side < (bisecting ? 2 : 1) && !blended; ++side) {
+      const Straddle st = straddle(w, w.kept[side], scale);
+      blended = st.across() && st.blend_settles && st.close &&
+                blend_passes(m, s, w, w.kept[side], st.theta, taken, work_by_particles);
+    }
+    if (blended) {
+      status |= pass;
+      s.blended_windows += 1;
+      break;
+    }
+    if (bisecting) {
+      if (straddle(w, w.kept[0], scale).across()) {
+        keep_pass(m, s, w, w.kept[1], scale, taken, work_by_particles);
+      } else if (straddle(w, w.kept[1], scale).across()) {
+        keep_pass(m, s, w, w.kept[0], scale, taken, work_by_particles);
+      } else {
+        bisecting = false;
+      }
+    } else if (passes > 1 && !last_is_best) {  // no progress: a jump, not a root between them
+      const Straddle st = straddle(w, w.kept[0], scale);
+      if (st.across() && st.blend_settles) {
+        bisecting = true;
+        keep_pass(m, s, w, w.kept[1], scale, taken, work_by_particles);
+      }
+    }
+    if (bisecting && passes < kCoupled2dMaxPasses) {
+      best_pass = passes;  // bisection halves the gap: not a stall
+      for (std::size_t k = 0; k < dofs; ++k) force[k] = 0.5 * (w.kept[0].force[k] + w.kept[1].force[k]);
+      continue;
+    }
+    // A jump that no two passes straddle closely enough: the passes circle
+    // it, and the window takes the pass with the smallest residual.
     if (passes - best_pass >= kCoupled2dStallPasses || passes == kCoupled2dMaxPasses) {
       if (!last_is_best) {
         force = w.best_force;
@@ -503,22 +675,23 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
       if (!(best <= kCoupled2dJumpTolerance)) status |= StepStatus::coupling_unstable;
       break;
     }
-    // Aitken's relaxation of the fixed-point update (Irons–Tuck).
-    if (passes == 1) {
-      w.relaxation = 1.0;
-    } else {
-      double num = 0, den = 0;
+    // The quasi-Newton's column of this pass against the last, then its step.
+    if (passes > 1) {
+      newest = (newest + 1) % kCoupled2dHistory;
+      columns = std::min(columns + 1, kCoupled2dHistory);
+      double* dr = w.history_residual.data() + static_cast<std::size_t>(newest) * dofs;
+      double* dh = w.history_output.data() + static_cast<std::size_t>(newest) * dofs;
       for (std::size_t k = 0; k < dofs; ++k) {
-        const double d = w.residual[k] - w.previous_residual[k];
-        num += w.previous_residual[k] * d;
-        den += d * d;
+        dr[k] = w.residual[k] - w.previous_residual[k];
+        dh[k] = w.impulse[k] / m.dt - w.previous_output[k];
       }
-      if (den > 0) w.relaxation = -w.relaxation * num / den;
     }
     for (std::size_t k = 0; k < dofs; ++k) {
-      force[k] += w.relaxation * w.residual[k];
       w.previous_residual[k] = w.residual[k];
+      w.previous_output[k] = w.impulse[k] / m.dt;
     }
+    keep_pass(m, s, w, w.kept[0], scale, taken, work_by_particles);
+    quasi_newton_step(w, columns, newest, force);
   }
   // The plate takes the impulse the disks gave in the last pass, exactly.
   bool exact = true;

@@ -8,6 +8,7 @@
 //
 // History convention: slot `history_head` of hist_v/hist_a holds f(y_n).
 #include <cmath>
+#include <cstring>
 #include <algorithm>
 #include <type_traits>
 
@@ -757,6 +758,36 @@ void dem_copy_state(DemState<D>& to, const DemState<D>& from) {
 template void dem_copy_state<1>(DemState<1>&, const DemState<1>&);
 template void dem_copy_state<2>(DemState<2>&, const DemState<2>&);
 template void dem_copy_state<3>(DemState<3>&, const DemState<3>&);
+
+template <int D>
+bool dem_blend_state(DemState<D>& into, const DemState<D>& other, double theta) {
+  bool same = true;
+  into.for_each_array(
+      [&](const char*, auto* data, auto count, auto o) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if (o.count != static_cast<std::size_t>(count)) same = false;
+        if constexpr (!std::is_same_v<T, double>)
+          for (std::size_t i = 0; same && i < o.count; ++i) same = data[i] == o.data[i];
+      },
+      other);
+  if (!same) return false;
+  into.for_each_array(
+      [&](const char* name, auto* data, auto count, auto o) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if constexpr (std::is_same_v<T, double>) {
+          const bool bound = std::strcmp(name, "network_omega2") == 0 || std::strcmp(name, "energy_peak") == 0;
+          for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
+            if (data[i] == o.data[i]) continue;
+            data[i] = bound ? std::max(data[i], o.data[i]) : (1.0 - theta) * data[i] + theta * o.data[i];
+          }
+        }
+      },
+      other);
+  return true;
+}
+template bool dem_blend_state<1>(DemState<1>&, const DemState<1>&, double);
+template bool dem_blend_state<2>(DemState<2>&, const DemState<2>&, double);
+template bool dem_blend_state<3>(DemState<3>&, const DemState<3>&, double);
 
 template void dem_drive_plane<1>(const DemModel<1>&, DemState<1>&, std::int32_t, double, double);
 template void dem_drive_plane<2>(const DemModel<2>&, DemState<2>&, std::int32_t, double, double);
