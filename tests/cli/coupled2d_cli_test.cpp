@@ -177,8 +177,8 @@ TEST(Coupled2dCli, FreePlateHitByDisksKeepsItsTotalMomentum) {
   for (const char* disk : {"f_left", "f_right", "f_top", "f_bottom"}) EXPECT_GT(largest(c, disk), 0.0) << disk;
 }
 
-// The free plate scene with friction and rolling resistance and "integrator":
-// "abm4" (scenes-2d.md: any integrator carries rotation) runs: the boundary's
+// The free plate scene, undamped, with friction and rolling resistance and
+// "integrator": "abm4" (scenes-2d.md: any integrator carries rotation) runs: the boundary's
 // friction changes the exchange (the particles' momentum leaves the
 // frictionless run's), and the total momentum is kept to round-off.
 TEST(Coupled2dCli, FrictionWithAbm4Runs) {
@@ -190,9 +190,13 @@ TEST(Coupled2dCli, FrictionWithAbm4Runs) {
     EXPECT_NE(at, std::string::npos) << from;
     return at == std::string::npos ? s : s.replace(at, from.size(), to);
   };
-  const std::string abm4 = replaced(text.str(), "\"integrator\": \"symplectic_euler\"", "\"integrator\": \"abm4\"");
+  // Undamped: with ζ = 0.05 this scene has a window without a fixed point
+  // under abm4 (docs/coupled2d.md, what is missing).
+  const std::string abm4 = replaced(
+      replaced(text.str(), "\"integrator\": \"symplectic_euler\"", "\"integrator\": \"abm4\""),
+      "\"damping_ratio\": 0.05", "\"damping_ratio\": 0.0");
   const std::string frictional =
-      replaced(abm4, "\"damping_ratio\": 0.05", "\"damping_ratio\": 0.05, \"friction\": 0.5, \"rolling_friction\": 0.02");
+      replaced(abm4, "\"damping_ratio\": 0.0", "\"damping_ratio\": 0.0, \"friction\": 0.5, \"rolling_friction\": 0.02");
   Csv runs[2];
   int k = 0;
   for (const std::string* body : {&abm4, &frictional}) {

@@ -185,12 +185,11 @@ INSTANTIATE_TEST_SUITE_P(EveryCoupledIntegrator, Coupled2dChopIntegrator,
 TEST_P(Coupled2dChopIntegrator, FrictionWithEveryIntegrator) {
   const Coupled2dDesc desc = cracked_plate_hit(GetParam(), 0.5, 0.02);
   InUse most;
-  for (std::int64_t k : {1, 2, 25, 60})
-    for (int workers : {1, 2}) {
-      const InUse u = chop(desc, kSteps, k, workers, std::string("friction, ") + integrator_name(GetParam()));
-      most.springs = std::max(most.springs, u.springs);
-      most.forces = std::max(most.forces, u.forces);
-    }
+  for (std::int64_t k : {1, 25, 60}) {
+    const InUse u = chop(desc, kSteps, k, 2, std::string("friction, ") + integrator_name(GetParam()));
+    most.springs = std::max(most.springs, u.springs);
+    most.forces = std::max(most.forces, u.forces);
+  }
   EXPECT_GE(most.springs, 2);
   EXPECT_GE(most.forces, 2);
 }
@@ -200,7 +199,7 @@ TEST_P(Coupled2dChopIntegrator, HertzWithFrictionWithEveryIntegrator) {
   Coupled2dDesc desc = cracked_plate_hit_hertz();
   desc.dem.integrator = GetParam();
   InUse most;
-  for (std::int64_t k : {3, 60}) most.springs = std::max(most.springs, chop(desc, kSteps, k, 2, "hertz").springs);
+  most.springs = chop(desc, kSteps, 25, 2, std::string("hertz, ") + integrator_name(GetParam())).springs;
   EXPECT_GE(most.springs, 1);
 }
 
@@ -225,7 +224,6 @@ TEST(Coupled2dChop, TheSpringsArePartOfTheSnapshot) {
 TEST(Coupled2dDeterminism, RunAfterRunAndOnTwoWorkersTheSameHashAtEveryStep) {
   for (const Coupled2dDesc& desc :
        {cracked_plate_hit(DemIntegrator::symplectic_euler, 0.5, 0.02), cracked_plate_hit(DemIntegrator::rk4, 0, 0),
-        cracked_plate_hit(DemIntegrator::verlet, 0.5, 0.02), cracked_plate_hit(DemIntegrator::rk4, 0.5, 0.02),
         cracked_plate_hit(DemIntegrator::abm4, 0.5, 0.02)}) {
     Coupled2dWorld one, again, two;
     ASSERT_TRUE(one.build(desc).ok());

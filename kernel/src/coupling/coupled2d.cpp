@@ -56,7 +56,7 @@ double contact_force(const DemModel<2>& dem, std::int32_t i, const PlateBoundary
 /// velocity) to `work`. Returns the number of contacts that carried a force.
 /// The frictionless disk–boundary contact (the plane's normal law), for the
 /// held substeps and the hooked stages alike; rotating disks take the wall
-/// contact in disk_contacts.
+/// contact in rotating_contacts.
 int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w, const double* positions,
                             std::int32_t i, const double centre[2], const double v[2], double scale, double total[2],
                             double* plate, double& work) {
@@ -406,7 +406,8 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   dem.dt = plate.dt / desc.dem_substeps;
   // Symplectic Euler evaluates its forces once, at the substep's start: the
   // boundary's force held over the substep is its own evaluation. The others
-  // evaluate at their stages: the boundary is evaluated there (boundary_stage).
+  // evaluate at their stages: the boundary is evaluated there (boundary_stage,
+  // boundary_rotating_stage with rotation).
   const bool held = desc.dem.integrator == DemIntegrator::symplectic_euler;
   dem.external_forces = held;
   dem.external_torques = rotating && held;
