@@ -94,8 +94,11 @@ TEST(ExternalContacts, MisuseIsRefusedNamingTheKey) {
   d.integrator = DemIntegrator::abm4_events;
   refused(d, "integrator");
   d.integrator = DemIntegrator::rk4;
-  d.friction = 0.5;
-  refused(d, "external_contacts");
+  d.friction = 0.5;  // rotating models call DemWorkspace::external_rotating_contacts
+  {
+    DemWorld<2> w;
+    EXPECT_TRUE(w.build(d).ok());
+  }
   d.friction = 0;
   d.energy_check = EnergyCheck{};
   refused(d, "energy_check");

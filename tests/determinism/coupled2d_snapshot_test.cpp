@@ -2,8 +2,8 @@
 // and on 1 and 2 workers: N steps in one go equal k steps, save, restore
 // into a fresh world built from the same description, N − k steps, bit for
 // bit (state hash and every byte of the snapshot), with the disks' springs
-// and torque input in use (friction, rolling resistance, hertz) and with
-// every integrator the coupled step takes; and refusal of a snapshot of
+// and torque input in use (friction, rolling resistance, hertz), with every
+// integrator the coupled step takes, frictionless and frictional; and refusal of a snapshot of
 // another kind of state, another layout or another model, which leaves the
 // target untouched.
 #include <gtest/gtest.h>
@@ -179,6 +179,30 @@ INSTANTIATE_TEST_SUITE_P(EveryCoupledIntegrator, Coupled2dChopIntegrator,
                                            DemIntegrator::abm4),
                          [](const auto& param_info) { return std::string(integrator_name(param_info.param)); });
 
+// Friction and rolling resistance with the integrators that evaluate the
+// boundary at their stages (the DEM's hook; no torque input): the springs
+// and the multistep history carried across.
+TEST_P(Coupled2dChopIntegrator, FrictionWithEveryIntegrator) {
+  const Coupled2dDesc desc = cracked_plate_hit(GetParam(), 0.5, 0.02);
+  InUse most;
+  for (std::int64_t k : {1, 25, 60}) {
+    const InUse u = chop(desc, kSteps, k, 2, std::string("friction, ") + integrator_name(GetParam()));
+    most.springs = std::max(most.springs, u.springs);
+    most.forces = std::max(most.forces, u.forces);
+  }
+  EXPECT_GE(most.springs, 2);
+  EXPECT_GE(most.forces, 2);
+}
+
+// Hertz (Mindlin's tangential history) with friction, the same.
+TEST_P(Coupled2dChopIntegrator, HertzWithFrictionWithEveryIntegrator) {
+  Coupled2dDesc desc = cracked_plate_hit_hertz();
+  desc.dem.integrator = GetParam();
+  InUse most;
+  most.springs = chop(desc, kSteps, 25, 2, std::string("hertz, ") + integrator_name(GetParam())).springs;
+  EXPECT_GE(most.springs, 1);
+}
+
 TEST(Coupled2dChop, TheSpringsArePartOfTheSnapshot) {
   // Restoring the disks and the plate but not the springs is not enough: the
   // fresh world's contacts restart their springs and drift from the one-go run.
@@ -199,7 +223,8 @@ TEST(Coupled2dChop, TheSpringsArePartOfTheSnapshot) {
 
 TEST(Coupled2dDeterminism, RunAfterRunAndOnTwoWorkersTheSameHashAtEveryStep) {
   for (const Coupled2dDesc& desc :
-       {cracked_plate_hit(DemIntegrator::symplectic_euler, 0.5, 0.02), cracked_plate_hit(DemIntegrator::rk4, 0, 0)}) {
+       {cracked_plate_hit(DemIntegrator::symplectic_euler, 0.5, 0.02), cracked_plate_hit(DemIntegrator::rk4, 0, 0),
+        cracked_plate_hit(DemIntegrator::abm4, 0.5, 0.02)}) {
     Coupled2dWorld one, again, two;
     ASSERT_TRUE(one.build(desc).ok());
     ASSERT_TRUE(again.build(desc).ok());

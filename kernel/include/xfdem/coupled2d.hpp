@@ -41,17 +41,20 @@
 // every disk–boundary contact is the DEM's particle–wall contact
 // (dem_detail::wall_contact, the plane contact's own code): Cundall–Strack
 // spring with its Coulomb cap, sticking dashpot, rolling resistance; hertz
-// with the plate's material as the second body (R* = the disk's radius). The
-// disk is held at the contact's force and torque (DemState::external_torque);
-// the plate receives the opposite force, normal and tangential, at the
+// with the material the boundary bounds as the second body (the plate's, or
+// an inclusion's where the boundary lies in it; R* = the disk's radius).
+// With symplectic Euler the disk is held at the contact's force and torque
+// (DemState::external_torque); with abm4, rk4 and verlet the rotating DEM
+// step calls the hook (DemWorkspace::external_rotating_contacts) at every
+// stage, each contact's spring advanced from its value at the substep's
+// start by the stage's time offset and kept at the substep's last
+// evaluation, as the DEM treats its own planes' springs. The plate receives the opposite force, normal and tangential, at the
 // contact's material point, and the opposite rolling couple as two opposite
 // forces at its segment's ends. Each contact's spring is kept in
 // Coupled2dState::springs by (disk, boundary chain), matched to the contact
 // of that chain whose normal is nearest the stored one: a disk slides across
 // the joints of a chain (a flat surface of many edges, a polygonal void's
 // vertices) with its spring, which the law turns into the new contact plane.
-// Rotating disks take symplectic Euler only (the rotating DEM step does not
-// call the hook).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -68,7 +71,8 @@ namespace xfdem {
 struct Coupled2dDesc {
   /// Disks: dt is set to plate.dt / dem_substeps; external_forces
   /// (symplectic_euler) or external_contacts (the others) is set on, and
-  /// external_torques with friction, rolling friction or hertz.
+  /// external_torques with friction, rolling friction or hertz under
+  /// symplectic_euler.
   DemDesc<2> dem;
   PlateDesc plate;  ///< dynamic analysis
   int dem_substeps = 10;
@@ -95,6 +99,9 @@ struct Coupled2dModel {
   bool rotating = false;
   /// hertz: the plate's (1 − ν²)/E and 2(2 − ν)(1 + ν)/E, the contacts' second body.
   double plate_inv_e = 0, plate_inv_g = 0;
+  /// hertz with discontinuities: the same of each boundary segment's material
+  /// (an inclusion's where the segment bounds it); empty otherwise (the plate's).
+  std::vector<double> segment_inv_e, segment_inv_g;
   bool beyond_stable_step = false;
 };
 

@@ -178,9 +178,14 @@ struct DemDesc {
   /// planes' forces (entries [planes, planes + totals) of
   /// DemState::plane_impulse and the planes' history): their impulse is then
   /// integrated with the integrator's own weights. Off: no call, no entries.
-  /// Not with abm4_events (its frozen contact sets and event tests do not see
-  /// the host's contacts), rotation (friction, rolling friction, hertz) or the
-  /// energy check (the host books the work of its contacts).
+  /// Rotating models (friction, rolling friction, hertz) call
+  /// DemWorkspace::external_rotating_contacts instead, at every evaluation of
+  /// the granular step, after its planes and pairs, with the spins, the
+  /// angular accelerations and how far (in time) the evaluation advances the
+  /// tangential springs and whether it keeps them, as the step treats its own
+  /// planes' springs. Not with abm4_events (its frozen contact sets and event
+  /// tests do not see the host's contacts) or the energy check (the host
+  /// books the work of its contacts).
   bool external_contacts = false;
   std::int32_t external_contact_totals = 0;
   /// Refuse to build when dt exceeds the integrator's stable step for the
@@ -277,6 +282,29 @@ using AccelerationKernel = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemW
 template <int D>
 using ExternalContacts = std::uint64_t (*)(void* context, double time, ConstColumns<D> x, ConstColumns<D> v,
                                            Columns<D> a, double* totals);
+
+/// One evaluation of a rotating model's host contacts
+/// (DemWorkspace::external_rotating_contacts): the state (x, v, spin) at
+/// `time`; the host adds its accelerations to a and its angular
+/// accelerations (torque / I) to alpha. `advance`: the time by which the
+/// evaluation advances the contacts' tangential springs from their values
+/// kept at the step's start (the step's own planes' ξ + advance · v_t);
+/// `keep`: whether the springs so advanced are kept (the step's last
+/// evaluation, at its end state) or only read (a stage).
+template <int D>
+struct ExternalStage {
+  double time = 0, advance = 0;
+  bool keep = false;
+  ConstColumns<D> x{}, v{};
+  std::array<const double*, spin_components(D)> spin{};
+  Columns<D> a{};
+  std::array<double*, spin_components(D)> alpha{};
+};
+
+/// The host's contacts of a rotating model: as ExternalContacts, at one
+/// ExternalStage.
+template <int D>
+using ExternalRotatingContacts = std::uint64_t (*)(void* context, const ExternalStage<D>& stage, double* totals);
 
 /// A whole step (DemModel::small_step).
 template <int D>
@@ -455,6 +483,8 @@ struct DemWorkspace {
   /// The host's contacts and their context (DemDesc::external_contacts);
   /// nullptr: none are evaluated. Set by the host between steps.
   ExternalContacts<D> external_contacts = nullptr;
+  /// Rotating models' (DemFeatures::rotation) instead; the same context.
+  ExternalRotatingContacts<D> external_rotating_contacts = nullptr;
   void* external_context = nullptr;
   /// Time of the state being evaluated (moving planes), set before each evaluation.
   double eval_time = 0;

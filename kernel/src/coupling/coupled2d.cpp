@@ -56,7 +56,7 @@ double contact_force(const DemModel<2>& dem, std::int32_t i, const PlateBoundary
 /// velocity) to `work`. Returns the number of contacts that carried a force.
 /// The frictionless disk–boundary contact (the plane's normal law), for the
 /// held substeps and the hooked stages alike; rotating disks take the wall
-/// contact in disk_contacts.
+/// contact in rotating_contacts.
 int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w, const double* positions,
                             std::int32_t i, const double centre[2], const double v[2], double scale, double total[2],
                             double* plate, double& work) {
@@ -171,25 +171,31 @@ void spread_couple(const PlateModel& plate, const PlateBoundary& b, int segment,
   plate_spread_force(plate, va.at, at_a, f);
 }
 
-/// The boundary's force (x, y; N) and torque (N·m) on disk i at the disks'
-/// state in s.dem, the boundary at `positions` (2 per vertex) moving at the
-/// window's velocities: each contact's plate share of h·F (and of its
-/// rolling couple) is added to w.impulse, the disk's work on the boundary
-/// over h to `work`. Rotating disks: each contact is the DEM's particle–wall
-/// contact with its spring advanced by h, the springs kept in s.springs when
-/// `keep` (false: a stage that only reads them). One evaluation of one disk's
-/// contacts: what a substep (or an integrator's stage) calls for each disk.
-void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w, std::int32_t i,
-                   const double* positions, double h, bool keep, double total[2], double& torque, double& work) {
-  const auto iu = static_cast<std::size_t>(i);
-  const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
-  const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
-  total[0] = total[1] = 0.0;
-  torque = 0.0;
-  if (!m.rotating) {
-    boundary_contact_forces(m, w, positions, i, centre, v, h, total, w.impulse.data(), work);
+/// The hertz compliances (1 − ν²)/E and 2(2 − ν)(1 + ν)/E of the material
+/// the boundary's segment bounds (the plate's, or an inclusion's where the
+/// segment lies in it); 0 for the other laws.
+void segment_compliance(const Coupled2dModel& m, int segment, double& inv_e, double& inv_g) {
+  if (m.segment_inv_e.empty()) {
+    inv_e = m.plate_inv_e, inv_g = m.plate_inv_g;
     return;
   }
+  inv_e = m.segment_inv_e[static_cast<std::size_t>(segment)];
+  inv_g = m.segment_inv_g[static_cast<std::size_t>(segment)];
+}
+
+/// The rotating disk i (centre, velocity v, spin wi) against the boundary at
+/// `positions` moving at the window's velocities: each contact the DEM's
+/// particle–wall contact, its spring (from s.springs, matched by chain and
+/// normal) advanced by `advance`, the springs kept in s.springs when `keep`
+/// (false: a stage that only reads them). Adds the boundary's force on the
+/// disk to total[2] and its torque to `torque`; each contact's plate share
+/// −scale·F at its material point (and of its rolling couple) to `plate`,
+/// its −scale·F·V (and the couple's work) to `work`. Returns the number of
+/// contacts that carried a normal force.
+int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2dWorkspace& w, std::int32_t i,
+                      const double* positions, const double centre[2], const double (&v)[2], double wi, double advance,
+                      bool keep, double scale, double* plate, double total[2], double& torque, double& work) {
+  const auto iu = static_cast<std::size_t>(i);
   PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
   const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[iu], contacts);
   // The disk's springs: a contact takes the stored one of its chain whose
@@ -199,7 +205,7 @@ void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspac
   bool taken[K] = {};
   std::int32_t chains[K];
   double normals[K][2], springs[K][2];
-  const double wi = s.dem.w[0][iu];
+  int carried = 0;
   for (int c = 0; c < count; ++c) {
     const PlateBoundaryContact& ct = contacts[c];
     const int chain = m.boundary.segments[static_cast<std::size_t>(ct.segment)].chain;
@@ -223,27 +229,28 @@ void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspac
     wall.speed = wall.velocity[0] * ct.normal[0] + wall.velocity[1] * ct.normal[1];
     const double spin = segment_spin(m.boundary, w, ct.segment, m.dt);
     wall.spin = &spin;
-    wall.inv_e = m.plate_inv_e, wall.inv_g = m.plate_inv_g;
+    segment_compliance(m, ct.segment, wall.inv_e, wall.inv_g);
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
     // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
     // opposite, and the sliding velocity is that of the disk's point at p.
     wall.arm = m.dem.radius[iu] - ct.overlap;
-    const dem_detail::ContactResult<2> r = dem_detail::wall_contact<2>(m.dem, i, wall, ct.overlap, v, &wi, h, xi);
+    const dem_detail::ContactResult<2> r = dem_detail::wall_contact<2>(m.dem, i, wall, ct.overlap, v, &wi, advance, xi);
     chains[c] = chain;
     normals[c][0] = ct.normal[0], normals[c][1] = ct.normal[1];
     springs[c][0] = xi[0], springs[c][1] = xi[1];
+    carried += r.fn != 0.0 ? 1 : 0;
     const double on_disk[2] = {r.fn * r.normal[0] + r.ft[0], r.fn * r.normal[1] + r.ft[1]};
     total[0] += on_disk[0], total[1] += on_disk[1];
     torque += r.torque_j[0];
-    work -= h * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
-    const double on_plate[2] = {-h * on_disk[0], -h * on_disk[1]};
-    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, ct), on_plate, w.impulse.data());
+    work -= scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
+    const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
+    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, ct), on_plate, plate);
     if (r.torque_i[0] != 0.0) {
-      work += h * r.torque_i[0] * spin;
-      spread_couple(m.plate, m.boundary, ct.segment, h * r.torque_i[0], w.impulse.data());
+      work += scale * r.torque_i[0] * spin;
+      spread_couple(m.plate, m.boundary, ct.segment, scale * r.torque_i[0], plate);
     }
   }
-  if (!keep) return;
+  if (!keep) return carried;
   for (int k = 0; k < K; ++k) {
     const std::size_t slot = base + static_cast<std::size_t>(k);
     const bool used = k < count;
@@ -253,6 +260,63 @@ void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspac
     s.springs.xi[2 * slot] = used ? springs[k][0] : 0.0;
     s.springs.xi[2 * slot + 1] = used ? springs[k][1] : 0.0;
   }
+  return carried;
+}
+
+/// The boundary's force (x, y; N) and torque (N·m) on disk i at the disks'
+/// state in s.dem, the boundary at `positions` (2 per vertex) moving at the
+/// window's velocities, held over a substep h (symplectic Euler): each
+/// contact's plate share of h·F (and of its rolling couple) is added to
+/// w.impulse, the disk's work on the boundary over h to `work`. Rotating
+/// disks: each contact's spring advanced by h and kept (rotating_contacts).
+void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w, std::int32_t i,
+                   const double* positions, double h, double total[2], double& torque, double& work) {
+  const auto iu = static_cast<std::size_t>(i);
+  const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
+  const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
+  total[0] = total[1] = 0.0;
+  torque = 0.0;
+  if (!m.rotating) {
+    boundary_contact_forces(m, w, positions, i, centre, v, h, total, w.impulse.data(), work);
+    return;
+  }
+  rotating_contacts(m, s, w, i, positions, centre, v, s.dem.w[0][iu], h, true, h, w.impulse.data(), total, torque,
+                    work);
+}
+
+/// The rotating DEM's external contact hook (DemDesc::external_contacts, the
+/// granular step): boundary_stage's evaluation with friction, rolling
+/// resistance or hertz, the springs advanced by the stage's `advance` from
+/// those kept at the substep's start and kept at its last evaluation, as the
+/// DEM treats its planes' springs; the torques added to the angular
+/// accelerations.
+std::uint64_t boundary_rotating_stage(void* context, const ExternalStage<2>& at, double* totals) {
+  Coupled2dWorkspace& w = *static_cast<Coupled2dWorkspace*>(context);
+  const Coupled2dModel& m = *w.stage_model;
+  Coupled2dState& s = *w.stage_state;
+  const auto dofs = static_cast<std::size_t>(m.plate.dofs);
+  std::fill(totals, totals + dofs + kHookExtras, 0.0);
+  boundary_at(w, (at.time - w.dem_start.time) / m.dt, w.positions.data());
+  double* extra = totals + dofs;
+  std::uint64_t tags = 0;
+  for (std::int32_t i = 0; i < m.dem.n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    const double centre[2] = {at.x[0][iu], at.x[1][iu]};
+    const double velocity[2] = {at.v[0][iu], at.v[1][iu]};
+    double total[2] = {0, 0}, torque = 0;
+    const int carried = rotating_contacts(m, s, w, i, w.positions.data(), centre, velocity, at.spin[0][iu], at.advance,
+                                          at.keep, 1.0, totals, total, torque, extra[kWork]);
+    s.boundary_force[0][iu] = total[0];
+    s.boundary_force[1][iu] = total[1];
+    at.a[0][iu] += total[0] * m.dem.inv_mass[iu];
+    at.a[1][iu] += total[1] * m.dem.inv_mass[iu];
+    at.alpha[0][iu] += torque * m.dem.inv_inertia[iu];
+    extra[kForceX] += total[0];
+    extra[kForceY] += total[1];
+    extra[kContacts] += carried;
+    tags += carried > 0 ? (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull : 0;
+  }
+  return tags;
 }
 
 /// One pass over the window with the plate's force `force`: the plate
@@ -292,7 +356,7 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
     for (std::int32_t i = 0; i < m.dem.n; ++i) {
       const auto iu = static_cast<std::size_t>(i);
       double total[2], torque;
-      disk_contacts(m, s, w, i, w.positions.data(), h, true, total, torque, work);
+      disk_contacts(m, s, w, i, w.positions.data(), h, total, torque, work);
       s.dem.external_force[0][iu] = total[0];
       s.dem.external_force[1][iu] = total[1];
       if (m.rotating) s.dem.external_torque[0][iu] = torque;
@@ -436,28 +500,12 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   if (desc.plate.analysis != PlateDesc::Analysis::dynamic)
     return BuildResult::failure(Code::invalid_argument, "continuum.analysis: a coupled scene needs %s", "dynamic");
   const bool rotating = desc.dem.friction > 0 || desc.dem.rolling_friction > 0 || desc.dem.law == ContactLaw::hertz;
-  // The disk–boundary springs advance once per substep, at its start: other
-  // integrators' stages would need them evaluated per stage, kept at the end
-  // (and the rotating DEM step does not call the external-contact hook).
-  if (rotating && desc.dem.integrator != DemIntegrator::symplectic_euler)
-    return BuildResult::failure(Code::invalid_argument,
-                                "dem.integrator: %s cannot carry friction, rolling friction or the hertz law against "
-                                "the plate: the disk-boundary tangential springs are advanced once per substep at its "
-                                "start, which is symplectic_euler's evaluation",
-                                integrator_name(desc.dem.integrator));
   if (desc.dem.integrator == DemIntegrator::abm4_events)
     return BuildResult::failure(Code::invalid_argument,
                                 "dem.integrator: %s is not supported against the plate: its event location (frozen "
                                 "contact sets, bisection on their changes) does not see the boundary's contacts; use "
                                 "abm4, rk4, verlet or symplectic_euler",
                                 integrator_name(desc.dem.integrator));
-  if (desc.dem.law == ContactLaw::hertz)
-    for (const PlateDiscontinuity& q : desc.plate.discontinuities)
-      if (q.kind == PlateDiscontinuity::Kind::inclusion)
-        return BuildResult::failure(Code::invalid_argument,
-                                    "dem.contact.law: hertz against a plate with an inclusion ('%s') is not supported: "
-                                    "the boundary's material is taken as the plate's own",
-                                    q.name.c_str());
   if (!(std::isfinite(desc.boundary_allowance) && desc.boundary_allowance >= 0))
     return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a length >= 0",
                                 desc.boundary_allowance);
@@ -478,10 +526,11 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   dem.dt = plate.dt / desc.dem_substeps;
   // Symplectic Euler evaluates its forces once, at the substep's start: the
   // boundary's force held over the substep is its own evaluation. The others
-  // evaluate at their stages: the boundary is evaluated there (boundary_stage).
+  // evaluate at their stages: the boundary is evaluated there (boundary_stage,
+  // boundary_rotating_stage with rotation).
   const bool held = desc.dem.integrator == DemIntegrator::symplectic_euler;
   dem.external_forces = held;
-  dem.external_torques = rotating;
+  dem.external_torques = rotating && held;
   dem.external_contacts = !held;
   dem.external_contact_totals = held ? 0 : m.plate.dofs + kHookExtras;
   dem.energy_check = kEnergyCheckOff;
@@ -491,10 +540,19 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   m.dt = plate.dt;
   m.rotating = rotating;
   const bool hertz = desc.dem.law == ContactLaw::hertz;
+  // hertz: the stiffest material the disks can touch bounds the stable step.
+  double stiffest_inv_e = 0, stiffest_inv_g = 0;
   if (hertz) {
     const double e = plate.youngs_modulus, nu = plate.poisson_ratio;
     m.plate_inv_e = (1.0 - nu * nu) / e;
     m.plate_inv_g = 2.0 * (2.0 - nu) * (1.0 + nu) / e;
+    stiffest_inv_e = m.plate_inv_e, stiffest_inv_g = m.plate_inv_g;
+    for (const PlateDiscontinuity& q : plate.discontinuities) {
+      if (q.kind != PlateDiscontinuity::Kind::inclusion) continue;
+      const double ek = q.material.youngs_modulus, nuk = q.material.poisson_ratio;
+      stiffest_inv_e = std::min(stiffest_inv_e, (1.0 - nuk * nuk) / ek);
+      stiffest_inv_g = std::min(stiffest_inv_g, 2.0 * (2.0 - nuk) * (1.0 + nuk) / ek);
+    }
   }
 
   // The stiffest contact: normal k (hertz: S_n at the DEM's reference overlap
@@ -510,8 +568,8 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     double kn = m.dem.stiffness[iu], kt = m.dem.tangential_ratio * kn;
     if (hertz) {
       const double root = radius * std::sqrt(kHertzReferenceOverlap);
-      kn = 2.0 * root / (m.dem.hertz_inv_e[iu] + m.plate_inv_e);
-      kt = 8.0 * root / (m.dem.hertz_inv_g[iu] + m.plate_inv_g);
+      kn = 2.0 * root / (m.dem.hertz_inv_e[iu] + stiffest_inv_e);
+      kt = 8.0 * root / (m.dem.hertz_inv_g[iu] + stiffest_inv_g);
     }
     worst = std::max(worst, kn * (1.0 / lightest + m.dem.inv_mass[iu]));
     if (desc.dem.friction > 0)
@@ -536,6 +594,25 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
                                : 0.5 * std::min(m.plate.cell_size[0], m.plate.cell_size[1]);
   r = plate_boundary_build(m.plate, max_radius > 0 ? max_radius : 1e-3 * allowance, allowance, m.boundary);
   if (!r.ok()) return r;
+  if (hertz && !plate.discontinuities.empty()) {
+    // Each segment's material: that of its cell on its side (an inclusion's
+    // on the inclusion's negative side, as the plate integrates it).
+    m.segment_inv_e.assign(m.boundary.segments.size(), m.plate_inv_e);
+    m.segment_inv_g.assign(m.boundary.segments.size(), m.plate_inv_g);
+    for (std::size_t k = 0; k < m.boundary.segments.size(); ++k) {
+      const PlateBoundarySegment& seg = m.boundary.segments[k];
+      const auto cell = static_cast<std::size_t>(seg.cell[1] * plate.cells[0] + seg.cell[0]);
+      const int cut = m.plate.cell_cut_by[cell];
+      int material = m.plate.cell_material[cell];
+      if (cut >= 0 && seg.side < 0 &&
+          plate.discontinuities[static_cast<std::size_t>(cut)].kind == PlateDiscontinuity::Kind::inclusion)
+        material = 1 + cut;
+      if (material <= 0) continue;
+      const PlateMaterial& q = plate.discontinuities[static_cast<std::size_t>(material - 1)].material;
+      m.segment_inv_e[k] = (1.0 - q.poisson_ratio * q.poisson_ratio) / q.youngs_modulus;
+      m.segment_inv_g[k] = 2.0 * (2.0 - q.poisson_ratio) * (1.0 + q.poisson_ratio) / q.youngs_modulus;
+    }
+  }
 
   const auto dofs = static_cast<std::size_t>(m.plate.dofs);
   const std::size_t coords = 2 * m.boundary.vertices.size();
@@ -582,6 +659,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   if (hooked(m)) {
     // Installed at every step: the world may have been copied since.
     w.dem.external_contacts = &boundary_stage;
+    w.dem.external_rotating_contacts = &boundary_rotating_stage;
     w.dem.external_context = &w;
     w.stage_model = &m;
     w.stage_state = &s;

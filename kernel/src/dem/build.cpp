@@ -594,10 +594,6 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                   "integrator: %s cannot take external contacts: its frozen contact sets and event "
                                   "tests do not see them (use abm4, rk4, verlet or symplectic_euler)",
                                   integrator_name(desc.integrator));
-    if (rotates(desc))
-      return BuildResult::failure(Code::invalid_argument,
-                                  "external_contacts: not with friction, rolling friction or the hertz law (the "
-                                  "rotating step does not call them)");
     if (desc.energy_check.interval > 0)
       return BuildResult::failure(Code::invalid_argument,
                                   "energy_check: the work of external contacts is the host's to book; turn the "

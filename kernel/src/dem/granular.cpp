@@ -592,6 +592,19 @@ StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const Views<D>& 
   return status;
 }
 
+/// The host's contacts (DemDesc::external_contacts) at this evaluation, last,
+/// on the whole state; their totals after the planes' in w.plane_force, so
+/// that the step weighs them as it weighs the planes'.
+template <int D>
+[[gnu::noinline, gnu::cold]] std::uint64_t external_stage(const DemModel<D>& m, DemWorkspace<D>& w,
+                                                          const Views<D>& at, double t, double h, bool keep) {
+  if (w.external_rotating_contacts == nullptr) return 0;
+  ExternalStage<D> stage;
+  stage.time = t, stage.advance = h, stage.keep = keep;
+  stage.x = at.x, stage.v = at.v, stage.spin = at.spin, stage.a = at.a, stage.alpha = at.alpha;
+  return w.external_rotating_contacts(w.external_context, stage, w.plane_force.data() + m.plane_point.size());
+}
+
 /// Stage 3: a = g + F/m and α = M/I at the state (x, v, ω); the tangential
 /// springs advanced by h from the stored ones (0: nothing accumulates, the
 /// state's own forces). `keep`: the advanced springs become the stored ones
@@ -655,6 +668,7 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
     for (int k = 0; k < S; ++k)
       for (std::int32_t j = split; j < n; ++j) at.alpha[k][j] += cross_spin[k][j - split];
   }
+  if (m.features.external_contacts) carried += external_stage<D>(m, w, at, t, h, keep);
   fold_contacts(w.contact_signature, carried + active[0] + active[1]);
   return part_status[0] | part_status[1];
 }
