@@ -38,16 +38,9 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "validation"))
+from plate_figures import data_array, read_plate  # noqa: E402  (the VTK readers of the plate's figures)
 from retaining_wall import BACK_X, CRACK_FACE_TIP_X, CRACK_TIP_X, CRACK_Y, DENSITY, STIFFNESS, WALL_H, WALL_X  # noqa: E402
-
-
-def data_array(parent, name=None):
-    for array in parent.iter("DataArray"):
-        if name is None or array.get("Name") == name:
-            values = np.array(array.text.split(), dtype=float)
-            components = int(array.get("NumberOfComponents", "1"))
-            return values.reshape(-1, components) if components > 1 else values
-    raise KeyError(name)
 
 
 def last_files(vtk_dir):
@@ -60,18 +53,6 @@ def last_files(vtk_dir):
     plate = next(f for f in last if "_plate_" in f)
     particles = next(f for f in last if "_particles_" in f)
     return time, os.path.join(vtk_dir, plate), os.path.join(vtk_dir, particles)
-
-
-def read_plate(path):
-    piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
-    points = data_array(piece.find("Points"))[:, :2]
-    displacement = data_array(piece.find("PointData"), "displacement")[:, :2]
-    von_mises = data_array(piece.find("CellData"), "von_mises")
-    cells = piece.find("Cells")
-    connectivity = data_array(cells, "connectivity").astype(int)
-    offsets = data_array(cells, "offsets").astype(int)
-    starts = np.concatenate(([0], offsets[:-1]))
-    return points, displacement, von_mises, [connectivity[s:e] for s, e in zip(starts, offsets)]
 
 
 def read_particles(path):
