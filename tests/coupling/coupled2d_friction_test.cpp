@@ -32,6 +32,7 @@
 #include "xfdem/state_io.hpp"
 
 using namespace xfdem;
+using xfdem::testing::circle;
 using xfdem::testing::disk;
 using xfdem::testing::plate;
 using xfdem::testing::total_momentum;
@@ -573,11 +574,7 @@ TEST(Coupled2dFriction, HertzAgainstAnInclusionTakesTheInclusionsMaterial) {
     Coupled2dDesc d;
     d.plate = plate(2e9, 2.0, 0.5, 20, 2);
     d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
-    PlateDiscontinuity inclusion;
-    inclusion.name = "soft";
-    inclusion.kind = PlateDiscontinuity::Kind::inclusion;
-    inclusion.shape = PlateDiscontinuity::Shape::circle;
-    inclusion.centre[0] = 1.0, inclusion.centre[1] = 0.5, inclusion.radius = 0.2;
+    PlateDiscontinuity inclusion = circle(PlateDiscontinuity::Kind::inclusion, 1.0, 0.5, 0.2, "soft");
     inclusion.material = {5e8, 0.25, 2000};
     d.plate.discontinuities.push_back(inclusion);
     d.dem.integrator = integrator;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "xfdem/coupling/plate_boundary.hpp"
+#include "support/plate_scenes.hpp"
 #include "xfdem/plate.hpp"
 
 using namespace xfdem;
@@ -41,13 +42,7 @@ PlateDiscontinuity vertical_crack(double x) {
 }
 
 PlateDiscontinuity circular_void(double x, double y, double r) {
-  PlateDiscontinuity q;
-  q.name = "hole";
-  q.kind = PlateDiscontinuity::Kind::hole;
-  q.shape = PlateDiscontinuity::Shape::circle;
-  q.centre[0] = x, q.centre[1] = y;
-  q.radius = r;
-  return q;
+  return xfdem::testing::circle(PlateDiscontinuity::Kind::hole, x, y, r);
 }
 
 struct Built {

@@ -24,12 +24,7 @@ Coupled2dDesc falling_bed(double speed, double e) {
   d.plate = testing::plate(e, 2, 0.2, 40, 4);
   d.plate.density = 2000.0;
   d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
-  PlateDiscontinuity hole;
-  hole.name = "hole";
-  hole.kind = PlateDiscontinuity::Kind::hole;
-  hole.shape = PlateDiscontinuity::Shape::circle;
-  hole.centre[0] = 1.0, hole.centre[1] = 0.1, hole.radius = 0.06;
-  d.plate.discontinuities.push_back(hole);
+  d.plate.discontinuities.push_back(testing::circle(PlateDiscontinuity::Kind::hole, 1.0, 0.1, 0.06));
   d.dem.integrator = DemIntegrator::symplectic_euler;
   d.dem.gravity = {0.0, -9.81};
   d.dem.damping_ratio = 0.2;

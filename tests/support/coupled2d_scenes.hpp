@@ -1,5 +1,6 @@
 // Pieces of the coupled 2D tests' scenes (tests/coupling/coupled2d*_test.cpp).
 #pragma once
+#include "support/plate_scenes.hpp"
 #include "xfdem/coupled2d.hpp"
 
 namespace xfdem::testing {
@@ -9,19 +10,6 @@ inline ParticleDesc<2> disk(double mass, double radius, double stiffness, double
   p.mass = mass, p.radius = radius, p.stiffness = stiffness;
   p.position = {x, y};
   p.velocity = {vx, vy};
-  return p;
-}
-
-/// A plane-strain plate [0, x] × [0, y] of nx × ny cells, ν = 0.3, ρ = 7800, dt = 1e-4 s.
-inline PlateDesc plate(double e, double x, double y, int nx, int ny) {
-  PlateDesc p;
-  p.plane = PlateDesc::Plane::strain;
-  p.youngs_modulus = e;
-  p.poisson_ratio = 0.3;
-  p.density = 7800.0;
-  p.min[0] = 0, p.min[1] = 0, p.max[0] = x, p.max[1] = y;
-  p.cells[0] = nx, p.cells[1] = ny;
-  p.dt = 1e-4;
   return p;
 }
 
@@ -47,12 +35,7 @@ inline Coupled2dDesc disk_bed_on_plate(int n) {
   d.plate = plate(1e9, 2, 0.5, 40, 10);
   d.plate.density = 2000.0;
   d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
-  PlateDiscontinuity hole;
-  hole.name = "hole";
-  hole.kind = PlateDiscontinuity::Kind::hole;
-  hole.shape = PlateDiscontinuity::Shape::circle;
-  hole.centre[0] = 0.6, hole.centre[1] = 0.25, hole.radius = 0.12;
-  d.plate.discontinuities.push_back(hole);
+  d.plate.discontinuities.push_back(circle(PlateDiscontinuity::Kind::hole, 0.6, 0.25, 0.12));
   PlateDiscontinuity crack;
   crack.name = "crack";
   crack.kind = PlateDiscontinuity::Kind::crack;

@@ -59,14 +59,11 @@ inline SweepVariant sweep_variant(std::uint64_t seed, int index, int max_disks) 
     d.dem.gravity = {0.0, -9.81};
   }
   if (r.coin(0.5)) {
-    PlateDiscontinuity hole;
-    hole.name = "hole";
-    hole.kind = PlateDiscontinuity::Kind::hole;
-    hole.shape = PlateDiscontinuity::Shape::circle;
-    hole.radius = r.uniform(0.1, 0.3) * std::min(lx, ly);
-    hole.centre[0] = r.uniform(0.25, 0.75) * lx;
-    hole.centre[1] = r.uniform(0.35, 1.05) * ly;  // above 1 - r/ly: a notch in the top
-    d.plate.discontinuities.push_back(hole);
+    // Drawn in this order (radius, x, y), so each seed keeps its scene.
+    const double radius = r.uniform(0.1, 0.3) * std::min(lx, ly);
+    const double x = r.uniform(0.25, 0.75) * lx;
+    const double y = r.uniform(0.35, 1.05) * ly;  // above 1 - r/ly: a notch in the top
+    d.plate.discontinuities.push_back(circle(PlateDiscontinuity::Kind::hole, x, y, radius));
   }
   if (r.coin(0.4)) {
     PlateDiscontinuity crack;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "xfdem/bar.hpp"
+#include "support/plate_scenes.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfem/reference.hpp"
@@ -64,15 +65,7 @@ PlateDiscontinuity crack(std::vector<std::array<double, 2>> points, PlateDiscont
   return q;
 }
 
-PlateDiscontinuity circle(PlateDiscontinuity::Kind kind, double cx, double cy, double r) {
-  PlateDiscontinuity q;
-  q.name = kind == PlateDiscontinuity::Kind::hole ? "hole" : "inclusion";
-  q.kind = kind;
-  q.shape = PlateDiscontinuity::Shape::circle;
-  q.centre[0] = cx, q.centre[1] = cy;
-  q.radius = r;
-  return q;
-}
+using xfdem::testing::circle;
 
 void plane_strain_d(double e, double nu, double dm[3][3]) {
   const double f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));

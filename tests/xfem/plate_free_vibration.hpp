@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 
+#include "support/plate_scenes.hpp"
 #include "xfdem/plate.hpp"
 #include "xfem/reference.hpp"
 
@@ -42,12 +43,7 @@ inline PlateDesc cracked_plate_with_a_void() {
   PlateDiscontinuity crack;
   crack.name = "crack";
   crack.points = {{-0.1, 0.53}, {0.73, 0.53}};  // from the left edge to a tip inside
-  PlateDiscontinuity hole;
-  hole.name = "hole";
-  hole.kind = PlateDiscontinuity::Kind::hole;
-  hole.shape = PlateDiscontinuity::Shape::circle;
-  hole.centre[0] = 1.3, hole.centre[1] = 0.45, hole.radius = 0.23;
-  d.discontinuities = {crack, hole};
+  d.discontinuities = {crack, testing::circle(PlateDiscontinuity::Kind::hole, 1.3, 0.45, 0.23)};
   PlateLoad kick;  // the initial impulse: 5 steps of a half-sine on the top edge
   kick.edge = PlateEdge::top;
   kick.value[0] = 2e6, kick.value[1] = -1e7;

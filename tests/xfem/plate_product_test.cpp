@@ -11,6 +11,7 @@
 
 #include "scene/scene.hpp"
 #include "support/command.hpp"
+#include "support/plate_scenes.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 
@@ -62,11 +63,7 @@ TEST(PlateProduct, CellByCellEqualsTheProfileProduct) {
   expect_same_product(scene_plate("plate_crack.json"), "plate_crack (tied)");
   expect_same_product(scene_plate("plate_hole.json"), "plate_hole (void)");
   PlateDesc inclusion = scene_plate("plate_tension.json");
-  PlateDiscontinuity q;
-  q.name = "inclusion";
-  q.kind = PlateDiscontinuity::Kind::inclusion;
-  q.shape = PlateDiscontinuity::Shape::circle;
-  q.centre[0] = 1.02, q.centre[1] = 0.47, q.radius = 0.31;
+  PlateDiscontinuity q = xfdem::testing::circle(PlateDiscontinuity::Kind::inclusion, 1.02, 0.47, 0.31);
   q.material = {7e10, 0.33, 2700};
   inclusion.discontinuities.push_back(q);
   expect_same_product(inclusion, "inclusion");
