@@ -338,6 +338,8 @@ struct CellView {
   int material = 0;   ///< of the uncut cell / the cut cell's positive side (−1: none)
   int tip_cell = -1;  ///< the tip in the cell (−1 none): its pieces are fanned from the tip
   bool tip_functions = false;  ///< some node carries branch functions
+  int touch_tip = -1;  ///< a cell other than the tip's that the tip touches (tiny-cut rule): fanned from it
+  double touch_exit[2] = {2.0, 2.0};  ///< where the tip's crack leaves that cell (parent; off the cell: it does not cut it)
   int count = 0;      ///< functions
   int node[kMaxCellFunctions] = {};  ///< local node of function f
   int disc[kMaxCellFunctions] = {};  ///< −1: standard or branch; else the enriching discontinuity
@@ -375,6 +377,17 @@ int uncut_side(const PlateModel& m, int k, const int en[4]) {
   return 1;
 }
 
+/// The tiny-cut rule for tips: a tip within this fraction of a cell of a
+/// cell's closed box touches the cell (as the tip's cell's "just behind the
+/// tip" and the boundary refusal, 1e-6).
+constexpr double kTipTouch = 1e-6;
+
+bool tip_touches(const PlateModel& m, const PlateModel::Tip& t, const double lo[2], const double hi[2]) {
+  const double tol = kTipTouch * std::min(m.cell_size[0], m.cell_size[1]);
+  return t.origin[0] >= lo[0] - tol && t.origin[0] <= hi[0] + tol && t.origin[1] >= lo[1] - tol &&
+         t.origin[1] <= hi[1] + tol;
+}
+
 void make_view(const PlateModel& m, int i, int j, CellView& v) {
   const int nx = m.desc.cells[0];
   v.i = i, v.j = j, v.cell = j * nx + i;
@@ -388,6 +401,8 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
   v.count = 0;
   v.tip_cell = -1;
   v.tip_functions = false;
+  v.touch_tip = -1;
+  v.touch_exit[0] = v.touch_exit[1] = 2.0;
   for (int a = 0; a < 4; ++a) {
     const int f = v.count++;
     v.node[f] = a, v.disc[f] = -1, v.tip[f] = -1;
@@ -426,6 +441,8 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
           v.held[f][c] = 0.0;
         }
       }
+      const PlateModel::Tip& tip = m.tips[static_cast<std::size_t>(t)];
+      if (v.tip_cell < 0 && (v.cut < 0 || v.cut == tip.crack) && tip_touches(m, tip, v.x0, v.x1)) v.touch_tip = t;
     }
   }
   v.plain = v.count == 4 && v.cut < 0 && v.material == 0;
@@ -433,6 +450,25 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
     double mean = 0.0;
     for (int a = 0; a < 4; ++a) mean += (v.phi[a] = phi_at(m, v.cut, v.en[a]));
     v.phi[4] = 0.25 * mean;
+  }
+  if (v.touch_tip >= 0 && v.cut >= 0) {
+    // The tip's crack cuts the cell it touches: where its straight tip segment
+    // leaves the cell, as for the tip's cell (a bend inside: the plain split).
+    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.touch_tip)];
+    const std::vector<Point2>& pts = d.discontinuities[static_cast<std::size_t>(t.crack)].points;
+    const Point2 origin = {t.origin[0], t.origin[1]};
+    const Point2 prev = t.at_end ? pts[pts.size() - 2] : pts[1];
+    double t0 = 0.0, t1 = 0.0;
+    if (!clip_segment(v.x0, v.x1, origin, prev, false, t0, t1) || !(t1 < 1.0)) {
+      v.touch_tip = -1;
+      return;
+    }
+    for (int c = 0; c < 2; ++c) {
+      const double x = origin[c] + t1 * (prev[c] - origin[c]);
+      double p = 2.0 * (x - v.x0[c]) / (v.x1[c] - v.x0[c]) - 1.0;
+      if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
+      v.touch_exit[c] = std::clamp(p, -1.0, 1.0);
+    }
   }
 }
 
@@ -589,6 +625,22 @@ constexpr double kGl5w[5] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665,
 constexpr int kTipSplits = 3;
 constexpr int kMaxPieces = 16;  // ≥ 4 × 3 split sub-triangles and 5 edges × kTipSplits fan triangles
 
+/// The point a cell touched by a tip is fanned from (parent coordinates): the
+/// tip, put on the cell's edge when within 1e-6 of a cell of it (kTipTouch)
+/// or outside. A fan's triangles to the edge a tip sits ε from are slivers
+/// whose 5-point rule keeps a point at distance ~ε below the tip, where
+/// |∇F|² ~ 1/r: a sliver of area O(ε) would add O(1) to the stiffness, and
+/// the answer would jump as ε → 0. On the edge, they vanish, and the fans of
+/// the cells on both sides of a node row meet the same limit from either side.
+Point2 fan_centre(const CellView& v, const PlateModel::Tip& t) {
+  Point2 p{};
+  for (int c = 0; c < 2; ++c) {
+    const double x = 2.0 * (t.origin[c] - v.x0[c]) / (v.x1[c] - v.x0[c]) - 1.0;
+    p[c] = std::fabs(x) >= 1.0 - 2.0 * kTipTouch ? (x > 0.0 ? 1.0 : -1.0) : x;
+  }
+  return p;
+}
+
 /// The triangles a cut cell, a tip cell or a cell with branch functions is
 /// integrated on (parent coordinates), each with its side and sub-triangle.
 /// A tip cell: fanned from the tip, its polygon through the point where the
@@ -596,11 +648,15 @@ constexpr int kMaxPieces = 16;  // ≥ 4 × 3 split sub-triangles and 5 edges ×
 /// in the cell) crack, the side of its centroid in the tip frame. Otherwise
 /// the four sub-triangles, split along the cutting level set when cut.
 int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece out[kMaxPieces], int triangle[kMaxPieces]) {
-  if (v.tip_cell >= 0) {
-    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip_cell)];
-    const Point2 tip = {2.0 * (t.origin[0] - v.x0[0]) / (v.x1[0] - v.x0[0]) - 1.0,
-                        2.0 * (t.origin[1] - v.x0[1]) / (v.x1[1] - v.x0[1]) - 1.0};
-    const Point2 exit = {t.exit[0], t.exit[1]};
+  if (v.tip_cell >= 0 || v.touch_tip >= 0) {
+    // A cell the tip touches but is not in (on or within 1e-6 of a cell of
+    // its edge or corner) is fanned as the tip's own cell, from its point
+    // nearest the tip: the limit of the tip cell's fan as the tip crosses
+    // into it, so the answer does not jump with the side of the edge the tip
+    // is on.
+    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip_cell >= 0 ? v.tip_cell : v.touch_tip)];
+    const Point2 tip = fan_centre(v, t);
+    const Point2 exit = v.tip_cell >= 0 ? Point2{t.exit[0], t.exit[1]} : Point2{v.touch_exit[0], v.touch_exit[1]};
     Point2 poly[5];
     int n = 0;
     for (int a = 0; a < 4; ++a) {
@@ -650,20 +706,32 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
   xfem::TrianglePiece pieces[kMaxPieces];
   int triangle[kMaxPieces];
   const int count = triangle_pieces(m, v, pieces, triangle);
+  // Branch functions are not polynomials, so the collapsed rule's error
+  // depends on which vertex is its apex. Off the fans (whose apex is the
+  // tip), each piece takes the mean of the rule over its three apexes: a rule
+  // of its vertex set only. A level set passing ε from a node splits a
+  // sub-triangle into a sliver and a piece that tends to the whole
+  // sub-triangle with its vertices in another order, and the answer then
+  // tends to the uncut cell's (the tiny-cut rule; the fans keep their apex).
+  const bool any_apex = v.tip_functions && v.tip_cell < 0 && v.touch_tip < 0;
+  const int apexes = any_apex ? 3 : 1;
   for (int p = 0; p < count; ++p) {
     const xfem::TrianglePiece& q = pieces[p];
     const int material = material_of(m, v, q.side);
     if (material < 0) continue;
-    const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
-    const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
-    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
-    if (jac == 0.0) continue;
-    for (int ia = 0; ia < 5; ++ia)
-      for (int ib = 0; ib < 5; ++ib) {
-        const double a = kGl5x[ia], b = kGl5x[ib];
-        const double xi = q.v[0][0] + a * e1x + a * b * e2x, eta = q.v[0][1] + a * e1y + a * b * e2y;
-        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
-      }
+    for (int r = 0; r < apexes; ++r) {
+      const Point2 v0 = q.v[r], v1 = q.v[(r + 1) % 3], v2 = q.v[(r + 2) % 3];
+      const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
+      const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
+      const double jac = std::fabs(e1x * e2y - e1y * e2x) / apexes;  // twice the piece's area (per apex)
+      if (jac == 0.0) continue;
+      for (int ia = 0; ia < 5; ++ia)
+        for (int ib = 0; ib < 5; ++ib) {
+          const double a = kGl5x[ia], b = kGl5x[ib];
+          const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
+          f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
+        }
+    }
   }
 }
 
@@ -1174,15 +1242,21 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         model.tips.push_back(tip);
       }
     }
-    // Branch functions: the nodes of each tip's cell, and (tip_radius > 0) every node within the radius.
+    // Branch functions: the nodes of each tip's cell and of every cell the tip
+    // touches (on or within 1e-6 of a cell of its edge or corner: the set does
+    // not depend on the side of a node row or column the tip is on), and
+    // (tip_radius > 0) every node within the radius.
     for (std::size_t t = 0; t < model.tips.size(); ++t) {
       const PlateModel::Tip& tip = model.tips[t];
       const double r2 = d.tip_radius * d.tip_radius;
       int en[4];
       cell_nodes(nx, tip.cell % nx, tip.cell / nx, en);
       for (int n = 0; n < nodes; ++n) {
-        const double dx = xs(n % (nx + 1)) - tip.origin[0], dy = ys(n / (nx + 1)) - tip.origin[1];
-        const bool own = n == en[0] || n == en[1] || n == en[2] || n == en[3];
+        const int i = n % (nx + 1), j = n / (nx + 1);
+        const double dx = xs(i) - tip.origin[0], dy = ys(j) - tip.origin[1];
+        const double lo[2] = {xs(std::max(i - 1, 0)), ys(std::max(j - 1, 0))};
+        const double hi[2] = {xs(std::min(i + 1, nx)), ys(std::min(j + 1, ny))};
+        const bool own = n == en[0] || n == en[1] || n == en[2] || n == en[3] || tip_touches(model, tip, lo, hi);
         if (!own && !(d.tip_radius > 0.0 && dx * dx + dy * dy <= r2)) continue;
         int& slot = model.node_tip[static_cast<std::size_t>(n)];
         if (slot >= 0 && slot != static_cast<int>(t))
