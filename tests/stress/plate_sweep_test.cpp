@@ -34,7 +34,7 @@ const char* name(Faces f) { return f == Faces::free ? "free" : f == Faces::tied 
 /// A plate clamped on its left edge, the crack along y = yc: through the
 /// plate, or from the left edge to a tip at x = 1.1 (a cell's middle) with
 /// branch functions within 0.3 of it.
-PlateDesc cracked_plate(bool tip, double yc, Faces faces, double k) {
+PlateDesc cracked_plate(bool tip, double yc, Faces faces, double k, double tip_x = 1.1) {
   PlateDesc d;
   d.plane = PlateDesc::Plane::strain;
   d.youngs_modulus = kE, d.poisson_ratio = kNu, d.density = kRho, d.thickness = 1.0;
@@ -45,7 +45,7 @@ PlateDesc cracked_plate(bool tip, double yc, Faces faces, double k) {
   d.supports.push_back({PlateEdge::left, {true, true}, false});
   PlateDiscontinuity c;
   c.name = "crack";
-  c.points = {{-0.1, yc}, {tip ? 1.1 : kW + 0.1, yc}};
+  c.points = {{-0.1, yc}, {tip ? tip_x : kW + 0.1, yc}};
   c.faces = faces;
   c.stiffness[0] = c.stiffness[1] = k;
   d.discontinuities.push_back(c);
@@ -133,6 +133,51 @@ TEST(PlateStress, CrackPositionsNearANodeChangeTheAnswerContinuously) {
                     "on it (%.3g at 1e-12); 40 random positions finite: %d\n",
                     tip ? "tip" : "through", name(faces), sign > 0 ? "pulled" : "pushed", same_side, across,
                     change(0, 1) * 1e-12, finite);
+      }
+}
+
+// The tip on a node (1.0, 0.6), moved across the node row and across the
+// node column, and on a vertical cell edge (1.0, 0.7), moved across the
+// column: ±1e-12 and ±1e-9 of a cell, free and tied faces (k = 100 E/h),
+// branch functions on the touched cells' nodes only (radius 0) and within
+// 0.45 (no node at that distance). The tip's cell flips with the side; the
+// enriched nodes (of every cell the tip touches) and the quadrature (those
+// cells fanned from their point nearest the tip) do not, so the answer moves
+// in proportion to the move: ≤ 10 δ relative, as a crack through the plate.
+TEST(PlateStress, CrackTipOnANodeOrACellEdgeMovesTheAnswerContinuously) {
+  struct Place {
+    double x, y;
+    bool move_x;
+    const char* what;
+  };
+  const Place places[3] = {{1.0, 0.6, false, "on a node, across the row"},
+                           {1.0, 0.6, true, "on a node, across the column"},
+                           {1.0, 0.7, true, "on a vertical edge, across the column"}};
+  for (const Place& at : places)
+    for (const Faces faces : {Faces::free, Faces::tied})
+      for (const double radius : {0.0, 0.45}) {
+        const double deltas[5] = {0.0, 1e-12, -1e-12, 1e-9, -1e-9};
+        double got[5][kAnswers];
+        for (int q = 0; q < 5; ++q) {
+          const double move = deltas[q] * kCell;
+          PlateDesc d = cracked_plate(true, at.y + (at.move_x ? 0.0 : move), faces, 1e2 * kE / kCell,
+                                      at.x + (at.move_x ? move : 0.0));
+          d.tip_radius = radius;
+          int dofs = 0;
+          ASSERT_TRUE(static_answers(d, 1.0, got[q], dofs));
+          for (double v : got[q]) ASSERT_TRUE(std::isfinite(v));
+        }
+        double scale = 0.0;
+        for (double v : got[0]) scale = std::max(scale, std::fabs(v));
+        double worst = 0.0;  // relative change per δ, over every pair of positions
+        for (int x = 0; x < 5; ++x)
+          for (int y = x + 1; y < 5; ++y) {
+            double change = 0.0;
+            for (int q = 0; q < kAnswers; ++q) change = std::max(change, std::fabs(got[x][q] - got[y][q]) / scale);
+            worst = std::max(worst, change / std::fabs(deltas[x] - deltas[y]));
+          }
+        std::printf("tip %-37s %-5s radius %.2f: relative change per delta %.3g\n", at.what, name(faces), radius, worst);
+        EXPECT_LE(worst, 10.0) << at.what << " " << name(faces) << " radius " << radius;
       }
 }
 
