@@ -126,6 +126,21 @@ bool segment_enters_domain(const PlateDesc& d, Point2 a, Point2 b) {
   return clip_segment(d.min, d.max, a, b, true, t0, t1);
 }
 
+/// Where the straight segment from a tip (origin) towards prev leaves the box
+/// lo–hi, in the box's parent coordinates (a point within 1e-12 of an edge on
+/// it); false if the segment ends inside the box (the crack bends there).
+bool tip_exit(const double lo[2], const double hi[2], Point2 origin, Point2 prev, double exit[2]) {
+  double t0 = 0.0, t1 = 0.0;
+  if (!clip_segment(lo, hi, origin, prev, false, t0, t1) || !(t1 < 1.0)) return false;
+  for (int c = 0; c < 2; ++c) {
+    const double x = origin[c] + t1 * (prev[c] - origin[c]);
+    double p = 2.0 * (x - lo[c]) / (hi[c] - lo[c]) - 1.0;
+    if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
+    exit[c] = std::clamp(p, -1.0, 1.0);
+  }
+  return true;
+}
+
 /// The polyline (not extended) meets the box: its interior (open) or its closure.
 bool polyline_meets_box(const std::vector<Point2>& p, const double lo[2], const double hi[2], bool open) {
   double t0 = 0.0, t1 = 0.0;
@@ -458,17 +473,7 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
     const std::vector<Point2>& pts = d.discontinuities[static_cast<std::size_t>(t.crack)].points;
     const Point2 origin = {t.origin[0], t.origin[1]};
     const Point2 prev = t.at_end ? pts[pts.size() - 2] : pts[1];
-    double t0 = 0.0, t1 = 0.0;
-    if (!clip_segment(v.x0, v.x1, origin, prev, false, t0, t1) || !(t1 < 1.0)) {
-      v.touch_tip = -1;
-      return;
-    }
-    for (int c = 0; c < 2; ++c) {
-      const double x = origin[c] + t1 * (prev[c] - origin[c]);
-      double p = 2.0 * (x - v.x0[c]) / (v.x1[c] - v.x0[c]) - 1.0;
-      if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
-      v.touch_exit[c] = std::clamp(p, -1.0, 1.0);
-    }
+    if (!tip_exit(v.x0, v.x1, origin, prev, v.touch_exit)) v.touch_tip = -1;
   }
 }
 
@@ -708,30 +713,37 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
   const int count = triangle_pieces(m, v, pieces, triangle);
   // Branch functions are not polynomials, so the collapsed rule's error
   // depends on which vertex is its apex. Off the fans (whose apex is the
-  // tip), each piece takes the mean of the rule over its three apexes: a rule
-  // of its vertex set only. A level set passing ε from a node splits a
-  // sub-triangle into a sliver and a piece that tends to the whole
-  // sub-triangle with its vertices in another order, and the answer then
-  // tends to the uncut cell's (the tiny-cut rule; the fans keep their apex).
-  const bool any_apex = v.tip_functions && v.tip_cell < 0 && v.touch_tip < 0;
-  const int apexes = any_apex ? 3 : 1;
+  // tip), a piece of a cell with branch functions takes as apex its vertex
+  // nearest the first corner of its sub-triangle (that corner itself when the
+  // piece is the whole sub-triangle). A level set passing ε from a node
+  // splits a sub-triangle into a sliver and a piece that tends to the whole
+  // sub-triangle with its vertices in another order; with this apex the
+  // rule tends to the uncut cell's, and so does the answer (the tiny-cut rule).
+  const bool nearest_apex = v.tip_functions && v.tip_cell < 0 && v.touch_tip < 0;
   for (int p = 0; p < count; ++p) {
     const xfem::TrianglePiece& q = pieces[p];
     const int material = material_of(m, v, q.side);
     if (material < 0) continue;
-    for (int r = 0; r < apexes; ++r) {
-      const Point2 v0 = q.v[r], v1 = q.v[(r + 1) % 3], v2 = q.v[(r + 2) % 3];
-      const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
-      const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
-      const double jac = std::fabs(e1x * e2y - e1y * e2x) / apexes;  // twice the piece's area (per apex)
-      if (jac == 0.0) continue;
-      for (int ia = 0; ia < 5; ++ia)
-        for (int ib = 0; ib < 5; ++ib) {
-          const double a = kGl5x[ia], b = kGl5x[ib];
-          const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
-          f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
-        }
+    int r = 0;
+    if (nearest_apex) {
+      const Point2 corner = {kXi[triangle[p]], kEta[triangle[p]]};
+      double best = INFINITY;
+      for (int c = 0; c < 3; ++c) {
+        const double d2 = (q.v[c][0] - corner[0]) * (q.v[c][0] - corner[0]) + (q.v[c][1] - corner[1]) * (q.v[c][1] - corner[1]);
+        if (d2 < best) best = d2, r = c;
+      }
     }
+    const Point2 v0 = q.v[r], v1 = q.v[(r + 1) % 3], v2 = q.v[(r + 2) % 3];
+    const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
+    const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
+    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
+    if (jac == 0.0) continue;
+    for (int ia = 0; ia < 5; ++ia)
+      for (int ib = 0; ib < 5; ++ib) {
+        const double a = kGl5x[ia], b = kGl5x[ib];
+        const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
+        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
+      }
   }
 }
 
@@ -1224,19 +1236,11 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         // Where the crack leaves the tip's cell: along the tip's segment, which must leave it.
         const Point2 prev = at_end ? q.points[q.points.size() - 2] : q.points[1];
         const double lo[2] = {xs(ci), ys(cj)}, hi[2] = {xs(ci + 1), ys(cj + 1)};
-        double t0 = 0.0, t1 = 0.0;
-        clip_segment(lo, hi, f.origin, prev, false, t0, t1);
-        if (!(t1 < 1.0))
+        if (!tip_exit(lo, hi, f.origin, prev, tip.exit))
           return BuildResult::failure(Code::invalid_argument,
                                       "discontinuities.%zu.points: the crack '%s' bends inside the cell holding its tip "
                                       "at (%g, %g); this build needs it straight there (refine the mesh)",
                                       k, q.name.c_str(), f.origin[0], f.origin[1]);
-        for (int c = 0; c < 2; ++c) {
-          const double x = f.origin[c] + t1 * (prev[c] - f.origin[c]);
-          double p = 2.0 * (x - lo[c]) / (hi[c] - lo[c]) - 1.0;
-          if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
-          tip.exit[c] = std::clamp(p, -1.0, 1.0);
-        }
         tip.cell = static_cast<int>(cell);
         model.cell_tip[cell] = static_cast<int>(model.tips.size());
         model.tips.push_back(tip);
