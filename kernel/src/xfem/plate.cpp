@@ -126,6 +126,21 @@ bool segment_enters_domain(const PlateDesc& d, Point2 a, Point2 b) {
   return clip_segment(d.min, d.max, a, b, true, t0, t1);
 }
 
+/// Where the straight segment from a tip (origin) towards prev leaves the box
+/// lo–hi, in the box's parent coordinates (a point within 1e-12 of an edge on
+/// it); false if the segment ends inside the box (the crack bends there).
+bool tip_exit(const double lo[2], const double hi[2], Point2 origin, Point2 prev, double exit[2]) {
+  double t0 = 0.0, t1 = 0.0;
+  if (!clip_segment(lo, hi, origin, prev, false, t0, t1) || !(t1 < 1.0)) return false;
+  for (int c = 0; c < 2; ++c) {
+    const double x = origin[c] + t1 * (prev[c] - origin[c]);
+    double p = 2.0 * (x - lo[c]) / (hi[c] - lo[c]) - 1.0;
+    if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
+    exit[c] = std::clamp(p, -1.0, 1.0);
+  }
+  return true;
+}
+
 /// The polyline (not extended) meets the box: its interior (open) or its closure.
 bool polyline_meets_box(const std::vector<Point2>& p, const double lo[2], const double hi[2], bool open) {
   double t0 = 0.0, t1 = 0.0;
@@ -338,6 +353,8 @@ struct CellView {
   int material = 0;   ///< of the uncut cell / the cut cell's positive side (−1: none)
   int tip_cell = -1;  ///< the tip in the cell (−1 none): its pieces are fanned from the tip
   bool tip_functions = false;  ///< some node carries branch functions
+  int touch_tip = -1;  ///< a cell other than the tip's that the tip touches (tiny-cut rule): fanned from it
+  double touch_exit[2] = {2.0, 2.0};  ///< where the tip's crack leaves that cell (parent; off the cell: it does not cut it)
   int count = 0;      ///< functions
   int node[kMaxCellFunctions] = {};  ///< local node of function f
   int disc[kMaxCellFunctions] = {};  ///< −1: standard or branch; else the enriching discontinuity
@@ -375,6 +392,17 @@ int uncut_side(const PlateModel& m, int k, const int en[4]) {
   return 1;
 }
 
+/// The tiny-cut rule for tips: a tip within this fraction of a cell of a
+/// cell's closed box touches the cell (as the tip's cell's "just behind the
+/// tip" and the boundary refusal, 1e-6).
+constexpr double kTipTouch = 1e-6;
+
+bool tip_touches(const PlateModel& m, const PlateModel::Tip& t, const double lo[2], const double hi[2]) {
+  const double tol = kTipTouch * std::min(m.cell_size[0], m.cell_size[1]);
+  return t.origin[0] >= lo[0] - tol && t.origin[0] <= hi[0] + tol && t.origin[1] >= lo[1] - tol &&
+         t.origin[1] <= hi[1] + tol;
+}
+
 void make_view(const PlateModel& m, int i, int j, CellView& v) {
   const int nx = m.desc.cells[0];
   v.i = i, v.j = j, v.cell = j * nx + i;
@@ -388,6 +416,8 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
   v.count = 0;
   v.tip_cell = -1;
   v.tip_functions = false;
+  v.touch_tip = -1;
+  v.touch_exit[0] = v.touch_exit[1] = 2.0;
   for (int a = 0; a < 4; ++a) {
     const int f = v.count++;
     v.node[f] = a, v.disc[f] = -1, v.tip[f] = -1;
@@ -426,6 +456,8 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
           v.held[f][c] = 0.0;
         }
       }
+      const PlateModel::Tip& tip = m.tips[static_cast<std::size_t>(t)];
+      if (v.tip_cell < 0 && (v.cut < 0 || v.cut == tip.crack) && tip_touches(m, tip, v.x0, v.x1)) v.touch_tip = t;
     }
   }
   v.plain = v.count == 4 && v.cut < 0 && v.material == 0;
@@ -433,6 +465,15 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
     double mean = 0.0;
     for (int a = 0; a < 4; ++a) mean += (v.phi[a] = phi_at(m, v.cut, v.en[a]));
     v.phi[4] = 0.25 * mean;
+  }
+  if (v.touch_tip >= 0 && v.cut >= 0) {
+    // The tip's crack cuts the cell it touches: where its straight tip segment
+    // leaves the cell, as for the tip's cell (a bend inside: the plain split).
+    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.touch_tip)];
+    const std::vector<Point2>& pts = d.discontinuities[static_cast<std::size_t>(t.crack)].points;
+    const Point2 origin = {t.origin[0], t.origin[1]};
+    const Point2 prev = t.at_end ? pts[pts.size() - 2] : pts[1];
+    if (!tip_exit(v.x0, v.x1, origin, prev, v.touch_exit)) v.touch_tip = -1;
   }
 }
 
@@ -589,6 +630,22 @@ constexpr double kGl5w[5] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665,
 constexpr int kTipSplits = 3;
 constexpr int kMaxPieces = 16;  // ≥ 4 × 3 split sub-triangles and 5 edges × kTipSplits fan triangles
 
+/// The point a cell touched by a tip is fanned from (parent coordinates): the
+/// tip, put on the cell's edge when within 1e-6 of a cell of it (kTipTouch)
+/// or outside. A fan's triangles to the edge a tip sits ε from are slivers
+/// whose 5-point rule keeps a point at distance ~ε below the tip, where
+/// |∇F|² ~ 1/r: a sliver of area O(ε) would add O(1) to the stiffness, and
+/// the answer would jump as ε → 0. On the edge, they vanish, and the fans of
+/// the cells on both sides of a node row meet the same limit from either side.
+Point2 fan_centre(const CellView& v, const PlateModel::Tip& t) {
+  Point2 p{};
+  for (int c = 0; c < 2; ++c) {
+    const double x = 2.0 * (t.origin[c] - v.x0[c]) / (v.x1[c] - v.x0[c]) - 1.0;
+    p[c] = std::fabs(x) >= 1.0 - 2.0 * kTipTouch ? (x > 0.0 ? 1.0 : -1.0) : x;
+  }
+  return p;
+}
+
 /// The triangles a cut cell, a tip cell or a cell with branch functions is
 /// integrated on (parent coordinates), each with its side and sub-triangle.
 /// A tip cell: fanned from the tip, its polygon through the point where the
@@ -596,11 +653,15 @@ constexpr int kMaxPieces = 16;  // ≥ 4 × 3 split sub-triangles and 5 edges ×
 /// in the cell) crack, the side of its centroid in the tip frame. Otherwise
 /// the four sub-triangles, split along the cutting level set when cut.
 int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece out[kMaxPieces], int triangle[kMaxPieces]) {
-  if (v.tip_cell >= 0) {
-    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip_cell)];
-    const Point2 tip = {2.0 * (t.origin[0] - v.x0[0]) / (v.x1[0] - v.x0[0]) - 1.0,
-                        2.0 * (t.origin[1] - v.x0[1]) / (v.x1[1] - v.x0[1]) - 1.0};
-    const Point2 exit = {t.exit[0], t.exit[1]};
+  if (v.tip_cell >= 0 || v.touch_tip >= 0) {
+    // A cell the tip touches but is not in (on or within 1e-6 of a cell of
+    // its edge or corner) is fanned as the tip's own cell, from its point
+    // nearest the tip: the limit of the tip cell's fan as the tip crosses
+    // into it, so the answer does not jump with the side of the edge the tip
+    // is on.
+    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip_cell >= 0 ? v.tip_cell : v.touch_tip)];
+    const Point2 tip = fan_centre(v, t);
+    const Point2 exit = v.tip_cell >= 0 ? Point2{t.exit[0], t.exit[1]} : Point2{v.touch_exit[0], v.touch_exit[1]};
     Point2 poly[5];
     int n = 0;
     for (int a = 0; a < 4; ++a) {
@@ -650,18 +711,37 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
   xfem::TrianglePiece pieces[kMaxPieces];
   int triangle[kMaxPieces];
   const int count = triangle_pieces(m, v, pieces, triangle);
+  // Branch functions are not polynomials, so the collapsed rule's error
+  // depends on which vertex is its apex. Off the fans (whose apex is the
+  // tip), a piece of a cell with branch functions takes as apex its vertex
+  // nearest the first corner of its sub-triangle (that corner itself when the
+  // piece is the whole sub-triangle). A level set passing ε from a node
+  // splits a sub-triangle into a sliver and a piece that tends to the whole
+  // sub-triangle with its vertices in another order; with this apex the
+  // rule tends to the uncut cell's, and so does the answer (the tiny-cut rule).
+  const bool nearest_apex = v.tip_functions && v.tip_cell < 0 && v.touch_tip < 0;
   for (int p = 0; p < count; ++p) {
     const xfem::TrianglePiece& q = pieces[p];
     const int material = material_of(m, v, q.side);
     if (material < 0) continue;
-    const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
-    const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
+    int r = 0;
+    if (nearest_apex) {
+      const Point2 corner = {kXi[triangle[p]], kEta[triangle[p]]};
+      double best = INFINITY;
+      for (int c = 0; c < 3; ++c) {
+        const double d2 = (q.v[c][0] - corner[0]) * (q.v[c][0] - corner[0]) + (q.v[c][1] - corner[1]) * (q.v[c][1] - corner[1]);
+        if (d2 < best) best = d2, r = c;
+      }
+    }
+    const Point2 v0 = q.v[r], v1 = q.v[(r + 1) % 3], v2 = q.v[(r + 2) % 3];
+    const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
+    const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
     const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
     if (jac == 0.0) continue;
     for (int ia = 0; ia < 5; ++ia)
       for (int ib = 0; ib < 5; ++ib) {
         const double a = kGl5x[ia], b = kGl5x[ib];
-        const double xi = q.v[0][0] + a * e1x + a * b * e2x, eta = q.v[0][1] + a * e1y + a * b * e2y;
+        const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
         f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
       }
   }
@@ -1156,33 +1236,31 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         // Where the crack leaves the tip's cell: along the tip's segment, which must leave it.
         const Point2 prev = at_end ? q.points[q.points.size() - 2] : q.points[1];
         const double lo[2] = {xs(ci), ys(cj)}, hi[2] = {xs(ci + 1), ys(cj + 1)};
-        double t0 = 0.0, t1 = 0.0;
-        clip_segment(lo, hi, f.origin, prev, false, t0, t1);
-        if (!(t1 < 1.0))
+        if (!tip_exit(lo, hi, f.origin, prev, tip.exit))
           return BuildResult::failure(Code::invalid_argument,
                                       "discontinuities.%zu.points: the crack '%s' bends inside the cell holding its tip "
                                       "at (%g, %g); this build needs it straight there (refine the mesh)",
                                       k, q.name.c_str(), f.origin[0], f.origin[1]);
-        for (int c = 0; c < 2; ++c) {
-          const double x = f.origin[c] + t1 * (prev[c] - f.origin[c]);
-          double p = 2.0 * (x - lo[c]) / (hi[c] - lo[c]) - 1.0;
-          if (std::fabs(std::fabs(p) - 1.0) <= 1e-12) p = p > 0.0 ? 1.0 : -1.0;  // on the cell's edge exactly
-          tip.exit[c] = std::clamp(p, -1.0, 1.0);
-        }
         tip.cell = static_cast<int>(cell);
         model.cell_tip[cell] = static_cast<int>(model.tips.size());
         model.tips.push_back(tip);
       }
     }
-    // Branch functions: the nodes of each tip's cell, and (tip_radius > 0) every node within the radius.
+    // Branch functions: the nodes of each tip's cell and of every cell the tip
+    // touches (on or within 1e-6 of a cell of its edge or corner: the set does
+    // not depend on the side of a node row or column the tip is on), and
+    // (tip_radius > 0) every node within the radius.
     for (std::size_t t = 0; t < model.tips.size(); ++t) {
       const PlateModel::Tip& tip = model.tips[t];
       const double r2 = d.tip_radius * d.tip_radius;
       int en[4];
       cell_nodes(nx, tip.cell % nx, tip.cell / nx, en);
       for (int n = 0; n < nodes; ++n) {
-        const double dx = xs(n % (nx + 1)) - tip.origin[0], dy = ys(n / (nx + 1)) - tip.origin[1];
-        const bool own = n == en[0] || n == en[1] || n == en[2] || n == en[3];
+        const int i = n % (nx + 1), j = n / (nx + 1);
+        const double dx = xs(i) - tip.origin[0], dy = ys(j) - tip.origin[1];
+        const double lo[2] = {xs(std::max(i - 1, 0)), ys(std::max(j - 1, 0))};
+        const double hi[2] = {xs(std::min(i + 1, nx)), ys(std::min(j + 1, ny))};
+        const bool own = n == en[0] || n == en[1] || n == en[2] || n == en[3] || tip_touches(model, tip, lo, hi);
         if (!own && !(d.tip_radius > 0.0 && dx * dx + dy * dy <= r2)) continue;
         int& slot = model.node_tip[static_cast<std::size_t>(n)];
         if (slot >= 0 && slot != static_cast<int>(t))
