@@ -123,6 +123,33 @@ struct Walker {
 
 inline double dot(const double a[2], const double b[2]) { return a[0] * b[0] + a[1] * b[1]; }
 
+/// The vertices a contact's feature spans: an edge's two ends; a vertex, its
+/// neighbours along the chain too. Returns their count (≤ 3).
+int feature_vertices(const PlateBoundary& b, const PlateBoundaryContact& c, int out[3]) {
+  if (c.vertex < 0) {
+    const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(c.segment)];
+    out[0] = s.a, out[1] = s.b;
+    return 2;
+  }
+  const PlateBoundaryVertex& v = b.vertices[static_cast<std::size_t>(c.vertex)];
+  int n = 0;
+  out[n++] = c.vertex;
+  if (v.prev >= 0) out[n++] = b.segments[static_cast<std::size_t>(v.prev)].a;
+  if (v.next >= 0) out[n++] = b.segments[static_cast<std::size_t>(v.next)].b;
+  return n;
+}
+
+/// Whether two contacts' features are one piece of boundary: they share a
+/// vertex, or a vertex's neighbour along its chain.
+bool joined(const PlateBoundary& b, const PlateBoundaryContact& x, const PlateBoundaryContact& y) {
+  int vx[3], vy[3];
+  const int nx = feature_vertices(b, x, vx), ny = feature_vertices(b, y, vy);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      if (vx[i] == vy[j]) return true;
+  return false;
+}
+
 }  // namespace
 
 BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double allowance, PlateBoundary& out) {
@@ -393,14 +420,18 @@ int plate_boundary_contacts(const PlateBoundary& b, const double* positions, con
     }
   };
   // The deepest feature (the first of equals), then the deepest of those more
-  // than 60° from every one kept, until none is left.
+  // than 60° from every one kept that it is joined to, until none is left.
+  // Features of two separate pieces of boundary (a crack's two lips at its
+  // mouth) are two contacts even where they face the same way: keeping only
+  // the deeper would move the whole force from one lip to the other where
+  // their depths cross, a jump in the plate's share that no force settles.
   int kept = 0;
   while (kept < kPlateBoundaryMaxContacts) {
     bool found = false;
     PlateBoundaryContact best;
     for_each_candidate([&](const PlateBoundaryContact& c) {
       for (int r = 0; r < kept; ++r)
-        if (!(dot(c.normal, out[r].normal) < 0.5)) return;
+        if (!(dot(c.normal, out[r].normal) < 0.5) && joined(b, c, out[r])) return;
       if (!found || c.overlap > best.overlap) best = c, found = true;
     });
     if (!found) break;
