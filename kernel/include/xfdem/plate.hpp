@@ -306,6 +306,14 @@ struct PlateWorkspace {
   std::vector<char> active, factored_active;
   xfem::SymmetricBand effective;
   xfem::BandLdlt factor;
+  /// The energy rule of unilateral faces (docs/xfem2d.md): the state the
+  /// step started from, the points held closed when a step is redone, and
+  /// its books: steps redone with openings held, energy taken out of the
+  /// velocity (J, summed) and energy it could not take (J, summed).
+  std::vector<double> u_start, v_start, a_start;
+  std::vector<char> held;
+  std::int64_t held_steps = 0;
+  double energy_removed = 0.0, energy_left = 0.0;
   /// A host's force on the unknowns (N), held over a step like a load of
   /// shape step: empty (the default) for none, else one entry per unknown,
   /// sized by the host after build (the coupled 2D stepper's contact forces).

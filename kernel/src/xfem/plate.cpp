@@ -931,7 +931,8 @@ inline void subtract_absorb_product(const PlateModel& m, const double* x, double
 
 class PlateOperator {
  public:
-  PlateOperator(const PlateModel& model, PlateWorkspace& workspace) : m_(model), ws_(workspace) {}
+  PlateOperator(const PlateModel& model, PlateWorkspace& workspace, const char* held = nullptr)
+      : m_(model), ws_(workspace), held_(held) {}
   [[nodiscard]] int size() const { return m_.dofs; }
 
   /// Solves (M + fac1 C + fac0 K) k = f(t) − C v − K x, with (fac0, fac1) either
@@ -964,6 +965,8 @@ class PlateOperator {
     const std::size_t points = m_.face_points.size();
     for (std::size_t p = 0; p < points; ++p)
       ws_.active[p] = m_.face_points[p].unilateral && face_gap(m_.face_points[p], x) < 0.0 ? 1 : 0;
+    if (held_ != nullptr && fac0 != 0.0)  // a redone step: the held points stay active
+      for (std::size_t p = 0; p < points; ++p) ws_.active[p] |= held_[p];
     for (int iteration = 0; iteration < kMaxActiveSetIterations; ++iteration) {
       for (int i = 0; i < n; ++i) k[i] = base[i];
       for (std::size_t p = 0; p < points; ++p) {
@@ -993,7 +996,7 @@ class PlateOperator {
         double g = 0.0;
         for (int a = 0; a < fp.terms; ++a)
           if (fp.dof[a] >= 0) g += fp.normal[a] * (x[fp.dof[a]] + fac0 * k[fp.dof[a]]);
-        const char now = g < 0.0 ? 1 : 0;
+        const char now = g < 0.0 || (held_ != nullptr && held_[p] != 0) ? 1 : 0;
         if (now != ws_.active[p]) same = false;
         ws_.active[p] = now;
       }
@@ -1007,6 +1010,7 @@ class PlateOperator {
  private:
   const PlateModel& m_;
   PlateWorkspace& ws_;
+  const char* held_;  ///< non-null: the active set of every solve (a redone step)
 };
 
 }  // namespace detail
@@ -2039,6 +2043,10 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       workspace.factor = model.effective_factor;
       workspace.active.assign(model.face_points.size(), 0);
       workspace.factored_active.assign(model.face_points.size(), 0);
+      workspace.held.assign(model.face_points.size(), 0);
+      workspace.u_start.assign(static_cast<std::size_t>(nd), 0.0);
+      workspace.v_start.assign(static_cast<std::size_t>(nd), 0.0);
+      workspace.a_start.assign(static_cast<std::size_t>(nd), 0.0);
     }
   }
   model.built = true;
@@ -2084,6 +2092,68 @@ StepStatus plate_start_acceleration(const PlateModel& model, PlateState& state, 
   return op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
 }
 
+namespace {
+
+/// Ê = ½vᵀMv + ½uᵀKu (tied faces in K) + Σ ½ w k_n min(g, 0)² over the
+/// unilateral points + ½Δt²(β − γ/2) aᵀMa from the matrices (the energy
+/// rule's measure; plate_algorithmic_energy() integrates the strains, equal
+/// to round-off). Uses ws.rhs as scratch.
+double step_energy(const PlateModel& m, const PlateState& s, PlateWorkspace& ws) {
+  const int n = m.dofs;
+  double* ku = ws.rhs.data();
+  for (int i = 0; i < n; ++i) ku[i] = 0.0;
+  plate_subtract_stiffness_product(m, s.u.data(), ku);
+  double e = 0.5 * m.mass.quadratic(s.v.data());
+  for (int i = 0; i < n; ++i) e -= 0.5 * s.u[static_cast<std::size_t>(i)] * ku[i];
+  for (const PlateModel::FacePoint& fp : m.face_points)
+    if (fp.unilateral) {
+      const double g = std::min(detail::face_gap(fp, s.u.data()), 0.0);
+      e += 0.5 * fp.weight * fp.k_normal * g * g;
+    }
+  const xfem::NewmarkScheme& k = m.scheme;
+  const double c = k.beta - 0.5 * k.gamma;
+  return e + (c == 0.0 ? 0.0 : 0.5 * k.dt * k.dt * c * m.mass.quadratic(s.a.data()));
+}
+
+/// Takes `excess` (J) out of the velocity relative to the plate's rigid
+/// translation v̄ (the M-projection of v on a unit translation per
+/// component): v ← v̄ + s (v − v̄), which keeps the momentum 1ᵀMv of each
+/// component. Returns what it could not take (when the relative part's
+/// kinetic energy is smaller). Uses ws.u_pred, ws.v_pred, ws.rhs as scratch.
+double take_from_velocity(const PlateModel& m, PlateState& st, PlateWorkspace& ws, double excess) {
+  const int n = m.dofs;
+  double* t = ws.v_pred.data();
+  double* mt = ws.u_pred.data();
+  double mean[2] = {0.0, 0.0};  // v̄ = Σ_c mean[c] t_c
+  double kinetic_mean = 0.0;
+  for (int c = 0; c < 2; ++c) {
+    for (int i = 0; i < n; ++i) t[i] = 0.0;
+    for (std::size_t k = static_cast<std::size_t>(c); k < m.node_dof.size(); k += 2)
+      if (m.node_dof[k] >= 0) t[m.node_dof[k]] = 1.0;
+    m.mass.multiply(t, mt);
+    double mass = 0.0, momentum = 0.0;
+    for (int i = 0; i < n; ++i) mass += t[i] * mt[i], momentum += mt[i] * st.v[static_cast<std::size_t>(i)];
+    if (mass > 0.0) mean[c] = momentum / mass, kinetic_mean += 0.5 * momentum * mean[c];
+  }
+  const double kinetic = 0.5 * m.mass.quadratic(st.v.data());
+  const double relative = kinetic - kinetic_mean;
+  if (!(relative > 0.0)) return excess;
+  const double taken = std::min(excess, relative);
+  const double scale = std::sqrt((relative - taken) / relative);
+  double* bar = ws.rhs.data();
+  for (int i = 0; i < n; ++i) bar[i] = 0.0;
+  for (int c = 0; c < 2; ++c)
+    for (std::size_t k = static_cast<std::size_t>(c); k < m.node_dof.size(); k += 2)
+      if (m.node_dof[k] >= 0) bar[m.node_dof[k]] = mean[c];
+  for (int i = 0; i < n; ++i) {
+    double& v = st.v[static_cast<std::size_t>(i)];
+    v = bar[i] + scale * (v - bar[i]);
+  }
+  return excess - taken;
+}
+
+}  // namespace
+
 StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace& ws) {
   if (!model.built || model.desc.analysis != PlateDesc::Analysis::dynamic) return StepStatus::not_built;
   const double t_n = static_cast<double>(state.step) * model.scheme.dt;
@@ -2101,40 +2171,92 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
     ws.absorb_u_start[k] = state.u[static_cast<std::size_t>(model.absorb_dof[k])];
     ws.absorb_v_start[k] = state.v[static_cast<std::size_t>(model.absorb_dof[k])];
   }
-  const detail::PlateOperator op(model, ws);
-  double net_force[2];
-  StepStatus s = xfem::newmark_step(model.scheme, op, t_next, state.u.data(), state.v.data(), state.a.data(),
-                                    ws.u_pred.data(), ws.v_pred.data(), model.mass_row_sums.data(), net_force);
+  const bool rule = model.unilateral_points > 0;
+  double energy_start = 0.0;
+  if (rule) {
+    ws.u_start = state.u, ws.v_start = state.v, ws.a_start = state.a;  // same sizes: no allocation
+    energy_start = step_energy(model, state, ws);
+  }
   const double g = model.scheme.gamma;
-  ws.last_external_impulse = model.scheme.dt * ((1.0 - g) * net_force[0] + g * net_force[1]);
   // Work with the scheme's weights (x_γ = (1 − γ) x_n + γ x_{n+1}): exact in
   // the discrete energy identity of a linear system.
-  double work = 0.0;
-  for (std::size_t e = 0; e < entries; ++e) {
-    const auto slot = static_cast<std::size_t>(model.load_of[e] + 1);
-    const double du = state.u[static_cast<std::size_t>(model.load_dof[e])] - ws.load_u_start[e];
-    work += du * model.load_value[e] * ((1.0 - g) * ws.shape_start[slot] + g * ws.shape_end[slot]);
-  }
-  for (std::size_t k = 0; k < dampers; ++k) {
-    const auto dof = static_cast<std::size_t>(model.damper_dof[k]);
-    work -= model.damper_coeff[k] * (state.u[dof] - ws.damper_u_start[k]) *
-            ((1.0 - g) * ws.damper_v_start[k] + g * state.v[dof]);
-  }
-  for (std::size_t b = 0; b + 1 < model.absorb_start.size(); ++b) {
-    const auto first = static_cast<std::size_t>(model.absorb_start[b]);
-    const int n = model.absorb_start[b + 1] - model.absorb_start[b];
-    const double* c = model.absorb_matrix.data() + model.absorb_matrix_start[b];
-    for (int r = 0; r < n; ++r) {
-      const std::size_t er = first + static_cast<std::size_t>(r);
-      const double du = state.u[static_cast<std::size_t>(model.absorb_dof[er])] - ws.absorb_u_start[er];
-      double cv = 0.0;
-      for (int q = 0; q < n; ++q) {
-        const std::size_t eq = first + static_cast<std::size_t>(q);
-        cv += c[r * n + q] * ((1.0 - g) * ws.absorb_v_start[eq] + g * state.v[static_cast<std::size_t>(model.absorb_dof[eq])]);
+  auto step_work = [&]() {
+    double work = 0.0;
+    for (std::size_t e = 0; e < entries; ++e) {
+      const auto slot = static_cast<std::size_t>(model.load_of[e] + 1);
+      const double du = state.u[static_cast<std::size_t>(model.load_dof[e])] - ws.load_u_start[e];
+      work += du * model.load_value[e] * ((1.0 - g) * ws.shape_start[slot] + g * ws.shape_end[slot]);
+    }
+    for (std::size_t k = 0; k < dampers; ++k) {
+      const auto dof = static_cast<std::size_t>(model.damper_dof[k]);
+      work -= model.damper_coeff[k] * (state.u[dof] - ws.damper_u_start[k]) *
+              ((1.0 - g) * ws.damper_v_start[k] + g * state.v[dof]);
+    }
+    for (std::size_t b = 0; b + 1 < model.absorb_start.size(); ++b) {
+      const auto first = static_cast<std::size_t>(model.absorb_start[b]);
+      const int n = model.absorb_start[b + 1] - model.absorb_start[b];
+      const double* c = model.absorb_matrix.data() + model.absorb_matrix_start[b];
+      for (int r = 0; r < n; ++r) {
+        const std::size_t er = first + static_cast<std::size_t>(r);
+        const double du = state.u[static_cast<std::size_t>(model.absorb_dof[er])] - ws.absorb_u_start[er];
+        double cv = 0.0;
+        for (int q = 0; q < n; ++q) {
+          const std::size_t eq = first + static_cast<std::size_t>(q);
+          cv += c[r * n + q] * ((1.0 - g) * ws.absorb_v_start[eq] + g * state.v[static_cast<std::size_t>(model.absorb_dof[eq])]);
+        }
+        work -= du * cv;
       }
-      work -= du * cv;
+    }
+    return work;
+  };
+  // A host's force, held over the step: its work f·Δu is the host's to book,
+  // but the energy rule must not take it for a gain.
+  auto host_work = [&]() {
+    double w = 0.0;
+    if (!ws.external_force.empty())
+      for (std::size_t i = 0; i < state.u.size(); ++i) w += ws.external_force[i] * (state.u[i] - ws.u_start[i]);
+    return w;
+  };
+  double net_force[2];
+  StepStatus s = xfem::newmark_step(model.scheme, detail::PlateOperator(model, ws), t_next, state.u.data(),
+                                    state.v.data(), state.a.data(), ws.u_pred.data(), ws.v_pred.data(),
+                                    model.mass_row_sums.data(), net_force);
+  double work = step_work();
+  if (rule) {
+    // The energy rule (docs/xfem2d.md): a step that gained energy while a
+    // point opened is redone with the points active at its start held active
+    // to its end (the others settle as before); each held point's spring then
+    // acts at both ends, so the step's energy only falls, and the
+    // acceleration is then recomputed with the set of u_{n+1} (the held
+    // spring's pull ends with the step). What a step still gains (beyond its
+    // work) is taken out of the velocity relative to the rigid motion.
+    const std::size_t points = model.face_points.size();
+    bool opened = false;
+    for (std::size_t p = 0; p < points; ++p) {
+      const PlateModel::FacePoint& fp = model.face_points[p];
+      const bool was = fp.unilateral && detail::face_gap(fp, ws.u_start.data()) < 0.0;
+      opened = opened || (was && !ws.active[p]);
+      ws.held[p] = was ? 1 : 0;
+    }
+    if ((opened && step_energy(model, state, ws) > energy_start + work + host_work())) {
+      state.u = ws.u_start, state.v = ws.v_start, state.a = ws.a_start;
+      s = xfem::newmark_step(model.scheme, detail::PlateOperator(model, ws, ws.held.data()), t_next, state.u.data(),
+                             state.v.data(), state.a.data(), ws.u_pred.data(), ws.v_pred.data(),
+                             model.mass_row_sums.data(), net_force);
+      s |= detail::PlateOperator(model, ws).implicit_solve(0.0, 0.0, t_next, state.u.data(), state.v.data(),
+                                                           state.a.data());
+      ++ws.held_steps;
+      work = step_work();
+    }
+    const double excess = step_energy(model, state, ws) - (energy_start + work + host_work());
+    if (excess > 0.0 && std::isfinite(excess)) {
+      const double left = take_from_velocity(model, state, ws, excess);
+      ws.energy_removed += excess - left;
+      ws.energy_left += left;
+      work = step_work();
     }
   }
+  ws.last_external_impulse = model.scheme.dt * ((1.0 - g) * net_force[0] + g * net_force[1]);
   state.energy.work += work;
   state.step += 1;
   state.time = t_next;
