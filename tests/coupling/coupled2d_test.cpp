@@ -137,9 +137,7 @@ TEST(Coupled2d, TheDisksImpulseIsThePlatesWithEveryIntegrator) {
     Coupled2dWorld w;
     const BuildResult r = w.build(d);
     ASSERT_TRUE(r.ok()) << r.message;
-    double p0[2] = {0, 0};
-    for (std::int32_t i = 0; i < w.model.dem.n; ++i)
-      for (int axis = 0; axis < 2; ++axis) p0[axis] += w.model.dem.mass[i] * w.state.dem.v[axis][i];
+    const double p0[2] = {dem_momentum(w.model.dem, w.state.dem, 0), dem_momentum(w.model.dem, w.state.dem, 1)};
     const double total0[2] = {total_momentum(w.model, w.state, 0), total_momentum(w.model, w.state, 1)};
     double worst = 0, worst_total = 0, peak = 0, scale = 0;
     for (std::int32_t i = 0; i < w.model.dem.n; ++i)
@@ -147,8 +145,7 @@ TEST(Coupled2d, TheDisksImpulseIsThePlatesWithEveryIntegrator) {
     for (int step = 0; step < 600; ++step) {
       ASSERT_EQ(w.step(), StepStatus::ok) << integrator_name(integrator) << " step " << step;
       for (int axis = 0; axis < 2; ++axis) {
-        double p = 0;
-        for (std::int32_t i = 0; i < w.model.dem.n; ++i) p += w.model.dem.mass[i] * w.state.dem.v[axis][i];
+        const double p = dem_momentum(w.model.dem, w.state.dem, axis);
         worst = std::max(worst, std::fabs((p - p0[axis]) + w.state.impulse_to_plate[axis]));
         worst_total = std::max(worst_total, std::fabs(total_momentum(w.model, w.state, axis) - total0[axis]));
         peak = std::max(peak, std::fabs(w.state.impulse_to_plate[axis]));
@@ -177,11 +174,10 @@ TEST(Coupled2d, TheDampedFreePlateSettlesEveryWindowWithEveryIntegrator) {
     d.dem.integrator = integrator;
     Coupled2dWorld w;
     ASSERT_TRUE(w.build(d).ok());
-    double scale = 0, p0[2] = {0, 0};
-    for (std::int32_t i = 0; i < w.model.dem.n; ++i) {
+    double scale = 0;
+    for (std::int32_t i = 0; i < w.model.dem.n; ++i)
       scale += w.model.dem.mass[i] * std::hypot(w.state.dem.v[0][i], w.state.dem.v[1][i]);
-      for (int axis = 0; axis < 2; ++axis) p0[axis] += w.model.dem.mass[i] * w.state.dem.v[axis][i];
-    }
+    const double p0[2] = {dem_momentum(w.model.dem, w.state.dem, 0), dem_momentum(w.model.dem, w.state.dem, 1)};
     const double total0[2] = {total_momentum(w.model, w.state, 0), total_momentum(w.model, w.state, 1)};
     double books = 0, drift = 0, peak = 0, worst_work = 0, work_scale = 0;
     for (int step = 0; step < 600; ++step) {
@@ -191,8 +187,7 @@ TEST(Coupled2d, TheDampedFreePlateSettlesEveryWindowWithEveryIntegrator) {
       worst_work = std::max(worst_work, std::fabs(on_plate - by_disks));
       work_scale += std::fabs(on_plate);
       for (int axis = 0; axis < 2; ++axis) {
-        double p = 0;
-        for (std::int32_t i = 0; i < w.model.dem.n; ++i) p += w.model.dem.mass[i] * w.state.dem.v[axis][i];
+        const double p = dem_momentum(w.model.dem, w.state.dem, axis);
         books = std::max(books, std::fabs((p - p0[axis]) + w.state.impulse_to_plate[axis]));
         drift = std::max(drift, std::fabs(total_momentum(w.model, w.state, axis) - total0[axis]));
         peak = std::max(peak, std::fabs(w.state.impulse_to_plate[axis]));
