@@ -29,12 +29,18 @@ void contact_velocity(const PlateBoundary& b, const Coupled2dWorkspace& w, const
     const auto k = static_cast<std::size_t>(2 * v + axis);
     return (w.end_positions[k] - w.start_positions[k]) / dt;
   };
-  const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(c.segment)];
+  auto edge_velocity = [&](int segment, double t, int axis) {
+    const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(segment)];
+    return (1.0 - t) * vertex_velocity(s.a, axis) + t * vertex_velocity(s.b, axis);
+  };
   for (int axis = 0; axis < 2; ++axis) {
     if (c.vertex >= 0) {
       out[axis] = vertex_velocity(c.vertex, axis);
+    } else if (c.partner >= 0) {  // a blended contact: its point moves as the blend of the two feet
+      out[axis] = (1.0 - c.partner_weight) * edge_velocity(c.segment, c.t, axis) +
+                  c.partner_weight * edge_velocity(c.partner, c.partner_t, axis);
     } else {
-      out[axis] = (1.0 - c.t) * vertex_velocity(s.a, axis) + c.t * vertex_velocity(s.b, axis);
+      out[axis] = edge_velocity(c.segment, c.t, axis);
     }
   }
 }
@@ -75,7 +81,7 @@ int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w
     work -= scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
     // The plate gets the opposite, at the contact's material point.
     const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
-    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, plate);
+    plate_boundary_spread_force(m.plate, m.boundary, contacts[c], on_plate, plate);
   }
   return carried;
 }
@@ -233,7 +239,8 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
     // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
     // opposite, and the sliding velocity is that of the disk's point at p.
-    wall.arm = m.dem.radius[iu] - ct.overlap;
+    wall.arm = ct.partner < 0 ? m.dem.radius[iu] - ct.overlap
+                              : std::hypot(centre[0] - ct.point[0], centre[1] - ct.point[1]);
     const dem_detail::ContactResult<2> r = dem_detail::wall_contact<2>(m.dem, i, wall, ct.overlap, v, &wi, advance, xi);
     chains[c] = chain;
     normals[c][0] = ct.normal[0], normals[c][1] = ct.normal[1];
@@ -244,7 +251,7 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     torque += r.torque_j[0];
     work -= scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
     const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
-    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, ct), on_plate, plate);
+    plate_boundary_spread_force(m.plate, m.boundary, ct, on_plate, plate);
     if (r.torque_i[0] != 0.0) {
       work += scale * r.torque_i[0] * spin;
       spread_couple(m.plate, m.boundary, ct.segment, scale * r.torque_i[0], plate);
