@@ -690,7 +690,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   double taken[2] = {0, 0}, work_by_particles = 0;
   int passes = 0, best_pass = 0, columns = 0, newest = -1;
   double best = INFINITY;  // the smallest |g|/scale seen, at w.best_force
-  bool last_is_best = false, bisecting = false;
+  bool last_is_best = false, bisecting = false, restarted = false;
   while (true) {
     StepStatus pass = window_pass(m, s, w, taken, work_by_particles);
     ++passes;
@@ -760,8 +760,18 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
       if (!(best <= kCoupled2dJumpTolerance)) status |= StepStatus::coupling_unstable;
       break;
     }
-    // The quasi-Newton's column of this pass against the last, then its step.
-    if (passes > 1) {
+    // A quasi-Newton step that made the residual much worse than the best
+    // (its secant model spans a kink of the window map): forget the history
+    // and start again from the best pass, by Picard steps first.
+    if (passes > 1 && columns > 0 && g > kCoupled2dRestartGrowth * best) {
+      columns = 0, newest = -1;
+      force = w.best_force;
+      restarted = true;
+      continue;
+    }
+    // The quasi-Newton's column of this pass against the last (none right
+    // after a restart: the last pass is the one forgotten), then its step.
+    if (passes > 1 && !restarted) {
       newest = (newest + 1) % kCoupled2dHistory;
       columns = std::min(columns + 1, kCoupled2dHistory);
       double* dr = w.history_residual.data() + static_cast<std::size_t>(newest) * dofs;
@@ -775,6 +785,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
       w.previous_residual[k] = w.residual[k];
       w.previous_output[k] = w.impulse[k] / m.dt;
     }
+    restarted = false;
     keep_pass(m, s, w, w.kept[0], scale, taken, work_by_particles);
     quasi_newton_step(w, columns, newest, force);
   }
