@@ -225,7 +225,7 @@ TEST(PlateBoundary, ClosestPointMatchesTheDistanceToEverySegment) {
   }
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> ux(-0.1, 2.1), uy(-0.1, 1.1);
-  int touching = 0, voids = 0;
+  int touching = 0, voids = 0, blended = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     const double c[2] = {ux(rng), uy(rng)};
     // Outside the material only (inside, contact is not defined by the
@@ -250,11 +250,65 @@ TEST(PlateBoundary, ClosestPointMatchesTheDistanceToEverySegment) {
     ASSERT_GE(n, 1) << c[0] << " " << c[1] << " nearest " << nearest;
     ++touching;
     EXPECT_NEAR(contacts[0].overlap, radius - nearest, 1e-14);
-    EXPECT_NEAR(std::hypot(c[0] - contacts[0].point[0], c[1] - contacts[0].point[1]), nearest, 1e-14);
+    const double arm = std::hypot(c[0] - contacts[0].point[0], c[1] - contacts[0].point[1]);
+    if (contacts[0].partner < 0) {
+      EXPECT_NEAR(arm, nearest, 1e-14);
+    } else {
+      // Near a concave joint's bisector: the blend of the two feet, on the
+      // disk's side of the corner (between them), no farther than the nearest.
+      ++blended;
+      EXPECT_LE(arm, nearest + 1e-14);
+      EXPECT_GT(contacts[0].partner_weight, 0.0);
+      EXPECT_LE(contacts[0].partner_weight, 0.5);
+    }
   }
-  std::printf("contacts checked against the brute-force distance: %d (centres in the void: %d)\n", touching, voids);
+  std::printf("contacts checked against the brute-force distance: %d (centres in the void: %d, blended at a "
+              "concave joint: %d)\n",
+              touching, voids, blended);
   EXPECT_GT(touching, 500);
   EXPECT_GT(voids, 500);
+}
+
+// A concave joint of 10° (the top's vertex at x = 1 pulled down, its
+// neighbours 0.1 m away held): the closest point changes edges at the
+// bisector, where the normal jumped by the joint's angle (0.17 rad). Blended
+// there, the normal turns continuously: by the joint's angle φ over the
+// zone's width gap·tan(φ/2), 2/gap per metre on average, and at most 3/2 of
+// that (the smoothstep's steepest slope); it is the bisector's on the
+// bisector, and the overlap is still the closest point's.
+TEST(PlateBoundary, ANormalThatTurnsContinuouslyAcrossAConcaveJoint) {
+  Built b;
+  const double radius = 0.1;
+  build(free_plate(20, 2), radius, b);
+  const double drop = 0.1 * std::tan(5.0 * std::acos(-1.0) / 180.0);
+  for (std::size_t v = 0; v < b.boundary.vertices.size(); ++v)
+    if (b.boundary.vertices[v].x[1] == 1.0 && std::fabs(b.boundary.vertices[v].x[0] - 1.0) < 1e-12)
+      b.positions[2 * v + 1] -= drop;
+  const double height = 1.0 - drop + 0.09;
+  const int samples = 20001;
+  const double step = 0.1 / (samples - 1);
+  double worst_turn = 0, previous[2] = {0, 0}, largest_weight = 0, gap = radius;
+  for (int k = 0; k < samples; ++k) {
+    const double c[2] = {0.95 + step * k, height};
+    PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
+    ASSERT_EQ(plate_boundary_contacts(b.boundary, b.positions.data(), c, radius, contacts), 1) << c[0];
+    const PlateBoundaryContact& ct = contacts[0];
+    if (k > 0) worst_turn = std::max(worst_turn, std::hypot(ct.normal[0] - previous[0], ct.normal[1] - previous[1]));
+    previous[0] = ct.normal[0], previous[1] = ct.normal[1];
+    largest_weight = std::max(largest_weight, ct.partner_weight);
+    gap = std::min(gap, radius - ct.overlap);
+    if (k == samples / 2) {  // on the bisector
+      EXPECT_EQ(ct.partner_weight, 0.5);
+      EXPECT_NEAR(ct.normal[0], 0.0, 1e-15);
+      EXPECT_NEAR(ct.normal[1], 1.0, 1e-15);
+      EXPECT_NEAR(ct.overlap, radius - (height - (1.0 - drop)) * std::cos(5.0 * std::acos(-1.0) / 180.0), 1e-15);
+    }
+  }
+  std::printf("concave joint of 10 deg: largest turn of the normal between samples %.3g rad (%.3g m apart; "
+              "3/gap per metre: %.3g), largest partner weight %.2f\n",
+              worst_turn, step, 3 * step / gap, largest_weight);
+  EXPECT_EQ(largest_weight, 0.5);
+  EXPECT_LT(worst_turn, 1.1 * 3 * step / gap);  // 10 % for the tan(φ/2) ≈ φ/2 and the gap's change
 }
 
 TEST(PlateBoundary, OneContactWithContinuousOverlapAcrossJoints) {

@@ -12,7 +12,10 @@ namespace {
 
 /// The stress_intensity probe's interaction-integral radius, in cells (the
 /// larger side): q = 1 on the nodes within it (docs/xfem2d.md).
-constexpr int kStressIntensityCells = 4;
+constexpr double kStressIntensityCells = 4;
+constexpr double kStressIntensityMinCells = 1.5;
+// q = 1 on nodes strictly nearer the tip than the boundary is.
+constexpr double kStressIntensityShrink = 0.999;
 
 
 PlateEdge read_edge(ObjectReader& r) {
@@ -266,18 +269,21 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
     const bool at_end = p.choice("tip", {"start", "end"}) == "end";
     const auto& points = d.discontinuities[static_cast<std::size_t>(index)].points;
     const std::array<double, 2> tip = at_end ? points.back() : points.front();
-    // The interaction integral's domain: the nodes within kStressIntensityCells
-    // cells of the tip (q = 1 there), which must all be inside the plate.
+    // The interaction integral's domain: the nodes within `radius` of the tip
+    // (q = 1 there), which must all be inside the plate. The radius is
+    // kStressIntensityCells cells, or less for a tip nearer the boundary than
+    // that, down to kStressIntensityMinCells cells (fewer nodes in the ring,
+    // a larger error: docs/xfem2d.md).
     const double cell = std::max((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
-    const double radius = kStressIntensityCells * cell;
     const double reach = std::min({tip[0] - d.min[0], d.max[0] - tip[0], tip[1] - d.min[1], d.max[1] - tip[1]});
     if (!(reach > 0.0))
       p.fail("tip", "the " + std::string(at_end ? "end" : "start") + " of crack '" + name + "' at (" + number(tip[0]) +
                         ", " + number(tip[1]) + ") is not inside the plate: it is not a tip");
-    if (!(reach > radius))
+    const double radius = std::min(kStressIntensityCells * cell, kStressIntensityShrink * reach);
+    if (!(radius >= kStressIntensityMinCells * cell))
       p.fail("tip", "the " + std::string(at_end ? "end" : "start") + " tip of crack '" + name + "' is " + number(reach) +
-                        " m from the boundary: the interaction integral's domain (" +
-                        std::to_string(kStressIntensityCells) + " cells, " + number(radius) +
+                        " m from the boundary: the interaction integral's domain (at least " +
+                        number(kStressIntensityMinCells) + " cells, " + number(kStressIntensityMinCells * cell) +
                         " m) must stay inside the plate (refine the mesh)");
     probe.kind = Probe::Kind::plate_stress_intensity;
     probe.other = index;

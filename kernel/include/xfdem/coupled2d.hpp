@@ -113,6 +113,9 @@ inline constexpr double kCoupled2dTolerance = 1e-10;
 /// kCoupled2dHistory passes is the map's Jacobian on their span, Picard's
 /// step on the rest.
 inline constexpr int kCoupled2dHistory = 16;
+/// A pass whose residual is this many times the window's best so far drops
+/// the quasi-Newton history and starts again from the best pass.
+inline constexpr double kCoupled2dRestartGrowth = 10.0;
 /// A contact that closes or opens at another substep (or stage) as f̄ moves
 /// makes J jump: no force may be a fixed point. Where two passes lie on the
 /// two sides of such a jump, close enough that the blend of their residuals,

@@ -29,12 +29,18 @@ void contact_velocity(const PlateBoundary& b, const Coupled2dWorkspace& w, const
     const auto k = static_cast<std::size_t>(2 * v + axis);
     return (w.end_positions[k] - w.start_positions[k]) / dt;
   };
-  const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(c.segment)];
+  auto edge_velocity = [&](int segment, double t, int axis) {
+    const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(segment)];
+    return (1.0 - t) * vertex_velocity(s.a, axis) + t * vertex_velocity(s.b, axis);
+  };
   for (int axis = 0; axis < 2; ++axis) {
     if (c.vertex >= 0) {
       out[axis] = vertex_velocity(c.vertex, axis);
+    } else if (c.partner >= 0) {  // a blended contact: its point moves as the blend of the two feet
+      out[axis] = (1.0 - c.partner_weight) * edge_velocity(c.segment, c.t, axis) +
+                  c.partner_weight * edge_velocity(c.partner, c.partner_t, axis);
     } else {
-      out[axis] = (1.0 - c.t) * vertex_velocity(s.a, axis) + c.t * vertex_velocity(s.b, axis);
+      out[axis] = edge_velocity(c.segment, c.t, axis);
     }
   }
 }
@@ -75,7 +81,7 @@ int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w
     work -= scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
     // The plate gets the opposite, at the contact's material point.
     const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
-    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, contacts[c]), on_plate, plate);
+    plate_boundary_spread_force(m.plate, m.boundary, contacts[c], on_plate, plate);
   }
   return carried;
 }
@@ -233,7 +239,8 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
     // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
     // opposite, and the sliding velocity is that of the disk's point at p.
-    wall.arm = m.dem.radius[iu] - ct.overlap;
+    wall.arm = ct.partner < 0 ? m.dem.radius[iu] - ct.overlap
+                              : std::hypot(centre[0] - ct.point[0], centre[1] - ct.point[1]);
     const dem_detail::ContactResult<2> r = dem_detail::wall_contact<2>(m.dem, i, wall, ct.overlap, v, &wi, advance, xi);
     chains[c] = chain;
     normals[c][0] = ct.normal[0], normals[c][1] = ct.normal[1];
@@ -244,7 +251,7 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     torque += r.torque_j[0];
     work -= scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
     const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
-    plate_spread_force(m.plate, plate_boundary_material_point(m.boundary, ct), on_plate, plate);
+    plate_boundary_spread_force(m.plate, m.boundary, ct, on_plate, plate);
     if (r.torque_i[0] != 0.0) {
       work += scale * r.torque_i[0] * spin;
       spread_couple(m.plate, m.boundary, ct.segment, scale * r.torque_i[0], plate);
@@ -683,7 +690,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   double taken[2] = {0, 0}, work_by_particles = 0;
   int passes = 0, best_pass = 0, columns = 0, newest = -1;
   double best = INFINITY;  // the smallest |g|/scale seen, at w.best_force
-  bool last_is_best = false, bisecting = false;
+  bool last_is_best = false, bisecting = false, restarted = false;
   while (true) {
     StepStatus pass = window_pass(m, s, w, taken, work_by_particles);
     ++passes;
@@ -753,8 +760,18 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
       if (!(best <= kCoupled2dJumpTolerance)) status |= StepStatus::coupling_unstable;
       break;
     }
-    // The quasi-Newton's column of this pass against the last, then its step.
-    if (passes > 1) {
+    // A quasi-Newton step that made the residual much worse than the best
+    // (its secant model spans a kink of the window map): forget the history
+    // and start again from the best pass, by Picard steps first.
+    if (passes > 1 && columns > 0 && g > kCoupled2dRestartGrowth * best) {
+      columns = 0, newest = -1;
+      force = w.best_force;
+      restarted = true;
+      continue;
+    }
+    // The quasi-Newton's column of this pass against the last (none right
+    // after a restart: the last pass is the one forgotten), then its step.
+    if (passes > 1 && !restarted) {
       newest = (newest + 1) % kCoupled2dHistory;
       columns = std::min(columns + 1, kCoupled2dHistory);
       double* dr = w.history_residual.data() + static_cast<std::size_t>(newest) * dofs;
@@ -768,6 +785,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
       w.previous_residual[k] = w.residual[k];
       w.previous_output[k] = w.impulse[k] / m.dt;
     }
+    restarted = false;
     keep_pass(m, s, w, w.kept[0], scale, taken, work_by_particles);
     quasi_newton_step(w, columns, newest, force);
   }

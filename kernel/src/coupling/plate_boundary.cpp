@@ -343,6 +343,64 @@ bool plate_boundary_within_reach(const PlateBoundary& b, const double* positions
   return true;
 }
 
+namespace {
+
+/// A concave joint: the disk's centre projects inside both edges, and the
+/// deeper of the two (the closest point) changes sides at the joint's
+/// bisector, turning the normal and moving the force from one edge's nodes
+/// to the other's in one jump (which a window's fixed point cannot settle,
+/// and which rocks a disk resting on it). Near the bisector the contact is
+/// instead a blend of the two edges' feet: with s = gap_partner − gap_best
+/// ≥ 0, the partner's weight w = ½(1 − smoothstep(s/ε)), ½ on the bisector
+/// and 0 from s = ε on. ε = ½(1 − n_best·n_partner)·gap_best is below the s
+/// at which the partner's foot leaves its edge (s = (1 − cos φ)|c − v| there,
+/// φ the joint's angle, v its vertex), so the partner's weight is 0 before it
+/// stops being a candidate: the contact is continuous everywhere, and on the
+/// bisector its normal is the bisector's. The overlap stays the closest
+/// point's (r − gap_best: continuous, since the two gaps are equal where the
+/// deeper changes, and no higher than the surface). The point is the blend
+/// p̄ = (1 − w) p_best + w p_partner and the normal is along c − p̄, so that
+/// the force shared by the two feet in the same proportions has a moment
+/// about the centre of −(c − p̄) × F: zero for a normal force, as for a
+/// single contact (the disk's arm is then |c − p̄|).
+template <typename ForEach>
+void blend_concave_joint(const PlateBoundary& b, const double centre[2], double radius,
+                         PlateBoundaryContact& best, ForEach&& for_each_candidate) {
+  if (best.vertex >= 0) return;
+  const PlateBoundarySegment& sb = b.segments[static_cast<std::size_t>(best.segment)];
+  const double gap_best = radius - best.overlap;
+  double weight = 0;
+  PlateBoundaryContact partner;
+  for_each_candidate([&](const PlateBoundaryContact& c) {
+    if (c.vertex >= 0 || c.segment == best.segment) return;
+    const PlateBoundarySegment& sc = b.segments[static_cast<std::size_t>(c.segment)];
+    if (sc.a != sb.b && sc.b != sb.a) return;  // not across a joint of best's
+    const double cosine = dot(c.normal, best.normal);
+    if (cosine < 0.5) return;  // more than 60° apart: two contacts of a corner
+    const double epsilon = 0.5 * (1.0 - cosine) * gap_best;
+    const double s = best.overlap - c.overlap;
+    if (!(epsilon > 0) || !(s < epsilon)) return;
+    const double x = s / epsilon;
+    const double w = 0.5 * (1.0 - x * x * (3.0 - 2.0 * x));
+    if (w > weight) weight = w, partner = c;
+  });
+  if (!(weight > 0)) return;
+  double point[2], gap[2];
+  for (int a = 0; a < 2; ++a) {
+    point[a] = (1.0 - weight) * best.point[a] + weight * partner.point[a];
+    gap[a] = centre[a] - point[a];
+  }
+  const double length = std::sqrt(dot(gap, gap));
+  if (!(length > 0)) return;
+  best.point[0] = point[0], best.point[1] = point[1];
+  best.normal[0] = gap[0] / length, best.normal[1] = gap[1] / length;
+  best.partner = partner.segment;
+  best.partner_t = partner.t;
+  best.partner_weight = weight;
+}
+
+}  // namespace
+
 int plate_boundary_contacts(const PlateBoundary& b, const double* positions, const double centre[2], double radius,
                             PlateBoundaryContact out[kPlateBoundaryMaxContacts]) {
   int bin[2];
@@ -435,6 +493,7 @@ int plate_boundary_contacts(const PlateBoundary& b, const double* positions, con
       if (!found || c.overlap > best.overlap) best = c, found = true;
     });
     if (!found) break;
+    blend_concave_joint(b, centre, radius, best, for_each_candidate);
     out[kept++] = best;
   }
   return kept;
@@ -448,6 +507,22 @@ PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& b, const P
   p.xi = s.xi[0] + c.t * (s.xi[1] - s.xi[0]);
   p.eta = s.eta[0] + c.t * (s.eta[1] - s.eta[0]);
   return p;
+}
+
+void plate_boundary_spread_force(const PlateModel& m, const PlateBoundary& b, const PlateBoundaryContact& c,
+                                 const double force[2], double* f) {
+  if (c.partner < 0) {
+    plate_spread_force(m, plate_boundary_material_point(b, c), force, f);
+    return;
+  }
+  const double w = c.partner_weight;
+  const double first[2] = {(1.0 - w) * force[0], (1.0 - w) * force[1]};
+  const double second[2] = {w * force[0], w * force[1]};
+  PlateBoundaryContact other;
+  other.segment = c.partner;
+  other.t = c.partner_t;
+  plate_spread_force(m, plate_boundary_material_point(b, c), first, f);
+  plate_spread_force(m, plate_boundary_material_point(b, other), second, f);
 }
 
 void plate_spread_force(const PlateModel& m, const PlateMaterialPoint& at, const double force[2], double* f) {

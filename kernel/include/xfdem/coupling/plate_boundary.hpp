@@ -101,6 +101,15 @@ struct PlateBoundaryContact {
   double point[2] = {0, 0};   ///< contact point on the deformed boundary, m
   double normal[2] = {0, 0};  ///< unit, from the boundary towards the disk's centre
   double overlap = 0;         ///< r − gap, > 0
+  /// At a concave joint, the edge across the joint when the centre is near
+  /// the joint's bisector (−1: none): the contact is then the blend
+  /// (1 − w)·this edge's foot + w·the partner's foot (`point` is the blend,
+  /// `normal` along centre − point; `overlap` stays the closest point's), and
+  /// the force is shared by the two material points in those proportions
+  /// (plate_boundary_spread_force).
+  int partner = -1;
+  double partner_t = 0;       ///< parameter along the partner segment of its foot
+  double partner_weight = 0;  ///< w, in [0, ½]
 };
 
 /// Most contacts one disk can have: kept normals are more than 60° apart.
@@ -112,7 +121,8 @@ inline constexpr int kPlateBoundaryMaxContacts = 6;
 int plate_boundary_contacts(const PlateBoundary& boundary, const double* positions, const double centre[2],
                             double radius, PlateBoundaryContact out[kPlateBoundaryMaxContacts]);
 
-/// The material point of a contact (the vertex's, or the segment's at t).
+/// The material point of a contact (the vertex's, or the segment's at t;
+/// of a blended contact, its first edge's).
 PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& boundary, const PlateBoundaryContact& contact);
 
 /// Adds the force `force` (N, x and y) acting at material point `at` to the
@@ -122,6 +132,12 @@ PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& boundary, 
 /// point. Shares on held components (supports) go nowhere: the supports take
 /// them. No allocation.
 void plate_spread_force(const PlateModel& plate, const PlateMaterialPoint& at, const double force[2], double* f);
+
+/// plate_spread_force at a contact's material point, or at its two (shares
+/// 1 − w and w) for a blended contact, whose point is their blend: the plate
+/// gets the force and its moment about any point. No allocation.
+void plate_boundary_spread_force(const PlateModel& plate, const PlateBoundary& boundary,
+                                 const PlateBoundaryContact& contact, const double force[2], double* f);
 
 /// The plate's field (displacement u, or a rate with held components 0) at a
 /// material point. No allocation.
