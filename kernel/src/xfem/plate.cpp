@@ -2499,6 +2499,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
     if (t.crack == crack && t.at_end == at_end) tip = &t;
   if (!m.built || tip == nullptr || !std::isfinite(radius) || !(radius > 0.0)) return;
   const PlateDesc& d = m.desc;
+  inertia = inertia && d.analysis == PlateDesc::Analysis::dynamic;  // a static solution has ü = 0
   const int nx = d.cells[0], ny = d.cells[1];
   auto q_of = [&](int n) {
     const double dx = node_coord(d.min[0], d.max[0], n % (nx + 1), nx) - tip->origin[0];
@@ -2525,7 +2526,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
       make_view(m, i, j, v);
       double q[4];
       for (int a = 0; a < 4; ++a) q[a] = q_of(v.en[a]);
-      // ∇q = 0 there; with the inertia term, only q = 0 too (or nothing accelerates) lets a cell go.
+      // ∇q = 0 there, so the static terms vanish; the inertia term needs q = 0 too.
       const bool flat = q[0] == q[1] && q[1] == q[2] && q[2] == q[3];
       if (flat && (!inertia || q[0] == 0.0)) continue;
       const double area = 0.25 * m.cell_size[0] * m.cell_size[1];
