@@ -432,8 +432,14 @@ void plate_subtract_stiffness_product(const PlateModel& model, const double* x, 
 /// (docs/xfem2d.md). Both NaN when that end is not a tip, the radius is not
 /// positive and finite, no node is within it, or a node with q = 1 is on the
 /// domain's boundary. No allocation.
+///
+/// `inertia` (the default) adds the inertia term of the dynamic interaction
+/// integral of a stationary crack, ∫ ρ ü·∂u^aux/∂x₁ q dA over the cells where
+/// q ≠ 0 (Réthoré, Gravouil and Combescure 2005, with static auxiliary
+/// fields, whose kinetic cross term is zero); false gives the static form
+/// alone (for comparison). In a static analysis ü = 0 and the two agree.
 void plate_stress_intensity(const PlateModel& model, const PlateState& state, int crack, bool at_end, double radius,
-                            double k[2]);
+                            double k[2], bool inertia = true);
 
 /// Where a point lies: −1 outside the domain, 0 in material, 1 on a
 /// discontinuity (within `tolerance` of it, by its exact level set), 2 in a hole.

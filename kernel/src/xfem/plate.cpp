@@ -2491,13 +2491,15 @@ bool plate_point_basis(const PlateModel& m, int i, int j, double xi, double eta,
   return true;
 }
 
-void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack, bool at_end, double radius, double k[2]) {
+void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack, bool at_end, double radius, double k[2],
+                            bool inertia) {
   k[0] = k[1] = std::numeric_limits<double>::quiet_NaN();
   const PlateModel::Tip* tip = nullptr;
   for (const PlateModel::Tip& t : m.tips)
     if (t.crack == crack && t.at_end == at_end) tip = &t;
   if (!m.built || tip == nullptr || !std::isfinite(radius) || !(radius > 0.0)) return;
   const PlateDesc& d = m.desc;
+  inertia = inertia && d.analysis == PlateDesc::Analysis::dynamic;  // a static solution has ü = 0
   const int nx = d.cells[0], ny = d.cells[1];
   auto q_of = [&](int n) {
     const double dx = node_coord(d.min[0], d.max[0], n % (nx + 1), nx) - tip->origin[0];
@@ -2524,7 +2526,9 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
       make_view(m, i, j, v);
       double q[4];
       for (int a = 0; a < 4; ++a) q[a] = q_of(v.en[a]);
-      if (q[0] == q[1] && q[1] == q[2] && q[2] == q[3]) continue;  // ∇q = 0
+      // ∇q = 0 there, so the static terms vanish; the inertia term needs q = 0 too.
+      const bool flat = q[0] == q[1] && q[1] == q[2] && q[2] == q[3];
+      if (flat && (!inertia || q[0] == 0.0)) continue;
       const double area = 0.25 * m.cell_size[0] * m.cell_size[1];
       for_each_point(m, v, [&](double xi, double eta, double w, int tri, int side, int material) {
         BasisAt basis;
@@ -2540,8 +2544,9 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
         const double eps[3] = {gu[0][0], gu[1][1], gu[0][1] + gu[1][0]};
         double sig[3];
         for (int r = 0; r < 3; ++r) sig[r] = dd[3 * r] * eps[0] + dd[3 * r + 1] * eps[1] + dd[3 * r + 2] * eps[2];
-        double gq[2] = {0.0, 0.0};
+        double gq[2] = {0.0, 0.0}, qp = 0.0;
         for (int a = 0; a < 4; ++a) {
+          qp += q[a] * 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
           gq[0] += q[a] * 0.25 * kXi[a] * (1.0 + eta * kEta[a]) * (2.0 / m.cell_size[0]);
           gq[1] += q[a] * 0.25 * kEta[a] * (1.0 + xi * kXi[a]) * (2.0 / m.cell_size[1]);
         }
@@ -2569,9 +2574,22 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
         const double e = 2.0 * mu * (1.0 + nu);
         const double kappa = xfem::kolosov(nu, d.plane == PlateDesc::Plane::strain);
         e_star = d.plane == PlateDesc::Plane::strain ? e / (1.0 - nu * nu) : e;
+        // ρ ü in the tip frame (ü of the enriched field at the point).
+        double acc_local[2] = {0.0, 0.0};
+        if (inertia && qp != 0.0) {
+          double acc[2] = {0.0, 0.0};
+          for (int f = 0; f < v.count; ++f)
+            for (int comp = 0; comp < 2; ++comp) acc[comp] += basis.n[f] * coefficient(v, s.a.data(), false, f, comp);
+          const double rho = m.material_density[static_cast<std::size_t>(material)];
+          acc_local[0] = rho * (c * acc[0] + sn * acc[1]);
+          acc_local[1] = rho * (-sn * acc[0] + c * acc[1]);
+        }
         for (int mode = 0; mode < 2; ++mode) {
           const xfem::WilliamsField aux = xfem::williams_field(mode == 0 ? 1.0 : 0.0, mode == 1 ? 1.0 : 0.0, mu, kappa, r, theta);
-          integral[mode] += w * area * xfem::interaction_integrand(sig_local, gl, aux, gq_local);
+          double value = xfem::interaction_integrand(sig_local, gl, aux, gq_local);
+          // The dynamic interaction integral's inertia term ρ ü_i ∂u^aux_i/∂x₁ q (docs/xfem2d.md).
+          value += qp * (acc_local[0] * aux.grad_u[0][0] + acc_local[1] * aux.grad_u[1][0]);
+          integral[mode] += w * area * value;
         }
       });
     }
