@@ -27,6 +27,9 @@ constexpr DemIntegrator kCovered[] = {DemIntegrator::abm4, DemIntegrator::rk4, D
 struct Seen {
   int scenes = 0;
   long steps = 0, contact_steps = 0, non_finite = 0, unstable = 0, energy_growth = 0, coincident = 0;
+  // Scenes of one or two particles (their count compiled in) with one plane
+  // (its count compiled in too) and with 0, 2 or 3 (the count read).
+  int few_one_plane = 0, few_other_planes = 0;
 };
 
 /// Whether particle i starts deeper in a plane or an earlier particle than
@@ -125,6 +128,7 @@ void run_scene(std::uint64_t seed, Seen& seen) {
   ASSERT_NE(small.model.small_step, nullptr) << "seed " << seed;
   ASSERT_EQ(general.model.small_step, nullptr);
   ASSERT_EQ(state_hash(small.state), state_hash(general.state));
+  if (desc.particles.size() <= 2) ++(desc.planes.size() == 1 ? seen.few_one_plane : seen.few_other_planes);
   const int steps = 300;
   const int nan_at = rng() % 6 == 0 ? static_cast<int>(rng() % steps) : -1;
   // Inputs between steps, the same for both worlds.
@@ -193,11 +197,14 @@ void sweep(int scenes) {
     run_scene<D>(0x5EED0000u + 1000u * D + static_cast<std::uint64_t>(k), seen);
     if (::testing::Test::HasFatalFailure()) return;
   }
-  std::printf("D = %d: %d scenes, %ld steps, %ld with a contact, statuses: non_finite %ld, unstable_time_step %ld, "
-              "energy_growth %ld, coincident_centres %ld\n",
-              D, seen.scenes, seen.steps, seen.contact_steps, seen.non_finite, seen.unstable, seen.energy_growth,
-              seen.coincident);
+  std::printf("D = %d: %d scenes (%d of 1-2 particles with one plane, %d with another plane count), %ld steps, "
+              "%ld with a contact, statuses: non_finite %ld, unstable_time_step %ld, energy_growth %ld, "
+              "coincident_centres %ld\n",
+              D, seen.scenes, seen.few_one_plane, seen.few_other_planes, seen.steps, seen.contact_steps,
+              seen.non_finite, seen.unstable, seen.energy_growth, seen.coincident);
   EXPECT_GT(seen.contact_steps, seen.steps / 8);
+  EXPECT_GT(seen.few_one_plane, 0);
+  EXPECT_GT(seen.few_other_planes, 0);
   EXPECT_GT(seen.non_finite, 0);
   EXPECT_GT(seen.unstable, 0);
   EXPECT_GT(seen.energy_growth, 0);

@@ -18,11 +18,13 @@ double plane_elastic_energy(const DemModel<D>& m, const DemState<D>& s, std::siz
 
 /// Σ over the planes of speed × impulse given: the work moving planes have
 /// done since the impulses were last zeroed, up to a constant (the difference
-/// over a step is that step's work, the speed being held over it).
-template <int D>
+/// over a step is that step's work, the speed being held over it). P > 0:
+/// the step was instantiated for P planes (dem_detail::plane_count).
+template <int P = 0, int D>
 double plane_work_sum(const DemState<D>& s) {
   double sum = 0;
-  for (std::size_t p = 0; p < s.plane_speed.size(); ++p) sum += s.plane_speed[p] * s.plane_impulse[p];
+  const std::size_t planes = P > 0 ? static_cast<std::size_t>(P) : s.plane_speed.size();
+  for (std::size_t p = 0; p < planes; ++p) sum += s.plane_speed[p] * s.plane_impulse[p];
   return sum;
 }
 

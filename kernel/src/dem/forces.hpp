@@ -45,6 +45,14 @@ constexpr std::int32_t particle_count(const DemModel<D>& m) {
   return N > 0 ? N : m.n;
 }
 
+/// The same for the planes: P > 0 when the step was instantiated for P
+/// planes (then no host totals follow them in the impulse ledger), else the
+/// length of the planes' array `a` (P = 0).
+template <int P, class T>
+constexpr std::size_t plane_count(const std::vector<T>& a) {
+  return P > 0 ? static_cast<std::size_t>(P) : a.size();
+}
+
 /// dx = x_j − x_i per axis; returns |dx|² (the one order of operations every
 /// path uses, so that they round alike).
 template <int D>
@@ -70,14 +78,14 @@ std::array<double, D> plane_point_at(const DemModel<D>& m, const DemState<D>& s,
 /// (so each particle receives its plane contributions in plane order). Also
 /// sums each plane's force into w.plane_force for the impulse ledger. Returns
 /// the sum of the tags of the contacts that carried a force (contact_tag).
-template <int D, bool Damped, bool NonTensile>
+template <int D, bool Damped, bool NonTensile, int P = 0>
 std::uint64_t plane_forces(const DemModel<D>& m, const DemState<D>& s, const DemWorkspace<D>& w, ConstColumns<D> x,
                   ConstColumns<D> v, Columns<D> a, std::int32_t begin, std::int32_t end, double* totals) {
   const double* radius = m.radius.data();
   const double* inv_mass = m.inv_mass.data();
   const double* stiffness = m.stiffness.data();
   const double* plane_eta = m.plane_eta.data();
-  const std::size_t planes = m.plane_point.size();
+  const std::size_t planes = plane_count<P>(m.plane_point);
   std::uint64_t active = 0;
   for (std::size_t p = 0; p < planes; ++p) {
     const std::array<double, D> point = plane_point_at(m, s, p, w.eval_time);
@@ -326,14 +334,14 @@ template <int D>
 /// this order (the general kernel then adds the host's contacts). The
 /// general kernel below runs it through its pointer; the small-system step
 /// (integrators.cpp) inlines it, with its particle count N (particle_count)
-/// known at compile time.
-template <int D, bool Gravity, bool Damped, bool NonTensile, int N = 0>
+/// and plane count P (plane_count) known at compile time.
+template <int D, bool Gravity, bool Damped, bool NonTensile, int N = 0, int P = 0>
 [[gnu::always_inline]] inline StepStatus one_part_accelerations(const DemModel<D>& m, DemState<D>& s,
                                                                 DemWorkspace<D>& w, ConstColumns<D> x,
                                                                 ConstColumns<D> v, Columns<D> a) {
   const std::int32_t n = particle_count<N>(m);
   input_accelerations<D, Gravity>(m, s, a, 0, n);
-  std::uint64_t active = plane_forces<D, Damped, NonTensile>(m, s, w, x, v, a, 0, n, w.plane_force.data());
+  std::uint64_t active = plane_forces<D, Damped, NonTensile, P>(m, s, w, x, v, a, 0, n, w.plane_force.data());
   StepStatus status = StepStatus::ok;
   if (m.features.broad_phase != BroadPhase::none) {
     if (m.features.broad_phase == BroadPhase::grid && (!s.pairs_valid || moved_past_half_skin<D>(m, s, x, 0, n))) {

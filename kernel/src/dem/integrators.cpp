@@ -21,6 +21,7 @@ namespace xfdem {
 namespace {
 
 using dem_detail::contact_indicator;
+using dem_detail::plane_count;
 using dem_detail::zero_probe;
 
 template <int D>
@@ -66,10 +67,10 @@ struct Weighted {
 
 /// out = c · Σ_k weight_k · force_k over the planes (the impulse ledger), the
 /// terms added in order from 0. An array, not an initializer_list, so that the
-/// compiler unrolls it.
-template <std::size_t K>
+/// compiler unrolls it. P: the run's plane count (plane_count).
+template <int P, std::size_t K>
 inline void weigh(std::vector<double>& out, double c, const Weighted (&terms)[K]) {
-  for (std::size_t p = 0; p < out.size(); ++p) {
+  for (std::size_t p = 0; p < plane_count<P>(out); ++p) {
     double sum = 0;
     for (const Weighted& term : terms) sum += term.weight * term.force[p];
     out[p] = c * sum;
@@ -91,7 +92,8 @@ struct GeneralRun {
   DemState<D>& s;
   DemWorkspace<D>& w;
   AccelerationKernel<D> kernel;
-  static constexpr int kCount = 0;  ///< particle_count: the model's
+  static constexpr int kCount = 0;   ///< particle_count: the model's
+  static constexpr int kPlanes = 0;  ///< plane_count: the arrays' own
 
   template <class F>
   void over(F&& f) const {
@@ -122,13 +124,15 @@ struct GeneralRun {
 /// in place reads what it would read from a copy). Nothing there can hit a
 /// capacity, so the step is never refused. N > 0: the model has N particles,
 /// and every loop over them has that trip count at compile time (unrolled);
-/// N = 0: the model's count (dem_detail::particle_count).
-template <int D, bool Gravity, bool Damped, bool NonTensile, int N>
+/// N = 0: the model's count (dem_detail::particle_count). P the same for the
+/// planes and every loop over the impulse ledger (dem_detail::plane_count).
+template <int D, bool Gravity, bool Damped, bool NonTensile, int N, int P>
 struct SmallRun {
   const DemModel<D>& m;
   DemState<D>& s;
   DemWorkspace<D>& w;
   static constexpr int kCount = N;
+  static constexpr int kPlanes = P;
 
   template <class F>
   void over(F&& f) const {
@@ -137,7 +141,7 @@ struct SmallRun {
   // One function with the force code inlined (flatten), called from each stage.
   [[gnu::flatten, gnu::noinline]] StepStatus eval(double t, ConstColumns<D> x, ConstColumns<D> v, Columns<D> a) const {
     w.eval_time = t;
-    return dem_detail::one_part_accelerations<D, Gravity, Damped, NonTensile, N>(m, s, w, x, v, a);
+    return dem_detail::one_part_accelerations<D, Gravity, Damped, NonTensile, N, P>(m, s, w, x, v, a);
   }
   Columns<D> x1() const { return view<D>(s.x); }
   Columns<D> v1() const { return view<D>(s.v); }
@@ -171,10 +175,11 @@ StepStatus rk4_step(const Run& run, double t0, ConstColumns<D> x0, ConstColumns<
       }
   });
   std::vector<double>& ledger = w.plane_weighted;
-  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = f0[p];
+  const std::size_t planes = plane_count<Run::kPlanes>(ledger);
+  for (std::size_t p = 0; p < planes; ++p) ledger[p] = f0[p];
   StepStatus status = run.eval(t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
-  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
+  for (std::size_t p = 0; p < planes; ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S2 = (vs, as); stage 3 at y0 + S2 h/2.
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
@@ -188,7 +193,7 @@ StepStatus rk4_step(const Run& run, double t0, ConstColumns<D> x0, ConstColumns<
   });
   status |= run.eval(t0 + half, cxs, cvs, as);
   if (stop_now(status)) return status;
-  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] += 2.0 * w.plane_force[p];
+  for (std::size_t p = 0; p < planes; ++p) ledger[p] += 2.0 * w.plane_force[p];
   // S3; stage 4 at y0 + S3 h.
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
@@ -203,7 +208,7 @@ StepStatus rk4_step(const Run& run, double t0, ConstColumns<D> x0, ConstColumns<
   status |= run.eval(t0 + h, cxs, cvs, as);
   if (stop_now(status)) return status;
   const double sixth = h / 6.0;
-  for (std::size_t p = 0; p < ledger.size(); ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
+  for (std::size_t p = 0; p < planes; ++p) ledger[p] = sixth * (ledger[p] + w.plane_force[p]);
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) {
@@ -233,7 +238,7 @@ void commit(const Run& run, const std::vector<double>& impulse) {
     }
   });
   s.hist_plane_force[slot].swap(run.w.plane_force);  // w.plane_force is rewritten by every evaluation
-  for (std::size_t p = 0; p < impulse.size(); ++p) s.plane_impulse[p] += impulse[p];
+  for (std::size_t p = 0; p < plane_count<Run::kPlanes>(impulse); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
 }
 
@@ -245,8 +250,18 @@ StepStatus ensure_current_acceleration(const Run& run) {
   const auto& cs = s;
   const StepStatus status = run.eval(s.time, view<D>(cs.x), view<D>(cs.v), view<D>(s.hist_a[s.history_head]));
   if (stop_now(status)) return status;
-  for (int d = 0; d < D; ++d) s.hist_v[s.history_head][d] = s.v[d];
-  s.hist_plane_force[s.history_head] = run.w.plane_force;
+  // Element by element (the sizes match): an assignment of a few values costs
+  // more in its checks and memmove call than the copy.
+  run.over([&](std::int32_t begin, std::int32_t end) {
+    for (int d = 0; d < D; ++d) {
+      const double* v = s.v[d].data();
+      double* kept = s.hist_v[s.history_head][d].data();
+      for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
+    }
+  });
+  const std::vector<double>& force = run.w.plane_force;
+  double* kept_force = s.hist_plane_force[s.history_head].data();
+  for (std::size_t p = 0; p < plane_count<Run::kPlanes>(force); ++p) kept_force[p] = force[p];
   s.history_count = 1;
   return status;
 }
@@ -292,7 +307,7 @@ StepStatus step_verlet(const Run& run) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) v1[d][i] = w.vs[d][i] + half * a1[d][i];
   });
-  weigh(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
+  weigh<Run::kPlanes>(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
   commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
@@ -316,7 +331,7 @@ StepStatus step_symplectic_euler(const Run& run) {
   });
   const StepStatus status = run.eval(s.time + h, constant<D>(x1), constant<D>(v1), run.a1());
   if (stop_now(status)) return status;
-  weigh(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
+  weigh<Run::kPlanes>(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
   commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
@@ -358,7 +373,7 @@ StepStatus abm4_pece(const Run& run) {
   if (stop_now(status)) return status;
   if (!(probe[0] + probe[1] == 0.0)) status |= StepStatus::non_finite;
   // The planes' share of the corrector's velocity update.
-  weigh(w.plane_weighted, c,
+  weigh<Run::kPlanes>(w.plane_weighted, c,
         {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
          {1.0, s.hist_plane_force[f2].data()}});
   const Columns<D> x1 = run.x1(), v1 = run.v1();
@@ -590,7 +605,7 @@ bool all_finite(const Run& run, double start_time, bool read_whole_history) {
   double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference +
                   0.0 * s.energy.work + 0.0 * s.energy.peak;
   if (!m.features.damped) planes += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
-  for (std::size_t p = 0; p < s.plane_offset.size(); ++p) {
+  for (std::size_t p = 0; p < plane_count<Run::kPlanes>(s.plane_offset); ++p) {
     planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
     for (const auto& force : s.hist_plane_force) planes += 0.0 * force[p];
   }
@@ -611,7 +626,7 @@ StepStatus step_with(const Run& run) {
   // over the step; the forces' moment is O(n), so not with the check off.
   const bool moment_booked = m.energy_check.interval > 0;
   const double moment_start = moment_booked ? dem_detail::external_force_moment(m, s) : 0.0;
-  const double planes_start = dem_detail::plane_work_sum(s);
+  const double planes_start = dem_detail::plane_work_sum<Run::kPlanes>(s);
   // A full ABM4 step reads every history slot; the others read only the head.
   const bool read_whole_history =
       (m.integrator == DemIntegrator::abm4 || m.integrator == DemIntegrator::abm4_events) && s.history_count == 4;
@@ -641,36 +656,36 @@ StepStatus step_with(const Run& run) {
   if (m.features.broad_phase != BroadPhase::grid) {
     ConstColumns<D> x;
     for (int d = 0; d < D; ++d) x[d] = s.x[d].data();
-    s.network_omega2 = dem_detail::network_omega2<D, false, Run::kCount>(m, s, w, x);
+    s.network_omega2 = dem_detail::network_omega2<D, false, Run::kCount, Run::kPlanes>(m, s, w, x);
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
   if (!all_finite<D>(run, start_time, read_whole_history)) status |= StepStatus::non_finite;
   const double moment_end = moment_booked ? dem_detail::external_force_moment(m, s) : 0.0;
-  s.energy.work += (moment_end - moment_start) + (dem_detail::plane_work_sum(s) - planes_start);
+  s.energy.work += (moment_end - moment_start) + (dem_detail::plane_work_sum<Run::kPlanes>(s) - planes_start);
   if (energy_check_due(m.energy_check, s.step))
     energy_check(s.energy, m.energy_check, dem_detail::energy_totals(m, s, w.parallel));
   if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
   return status;
 }
 
-/// The small-system step for a feature set and particle count (DemModel::small_step).
-template <int D, bool Gravity, bool Damped, bool NonTensile, int N>
+/// The small-system step for a feature set, particle and plane count (DemModel::small_step).
+template <int D, bool Gravity, bool Damped, bool NonTensile, int N, int P>
 StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile, N>{m, s, w});
+  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile, N, P>{m, s, w});
 }
 
-template <int D, int N>
+template <int D, int N, int P>
 StepFunction<D> small_step_for(const DemFeatures& f) {
   switch ((f.gravity ? 4 : 0) | (f.damped ? 2 : 0) | (f.nontensile ? 1 : 0)) {
-    case 0: return &small_step<D, false, false, false, N>;
-    case 1: return &small_step<D, false, false, true, N>;
-    case 2: return &small_step<D, false, true, false, N>;
-    case 3: return &small_step<D, false, true, true, N>;
-    case 4: return &small_step<D, true, false, false, N>;
-    case 5: return &small_step<D, true, false, true, N>;
-    case 6: return &small_step<D, true, true, false, N>;
-    default: return &small_step<D, true, true, true, N>;
+    case 0: return &small_step<D, false, false, false, N, P>;
+    case 1: return &small_step<D, false, false, true, N, P>;
+    case 2: return &small_step<D, false, true, false, N, P>;
+    case 3: return &small_step<D, false, true, true, N, P>;
+    case 4: return &small_step<D, true, false, false, N, P>;
+    case 5: return &small_step<D, true, false, true, N, P>;
+    case 6: return &small_step<D, true, true, false, N, P>;
+    default: return &small_step<D, true, true, true, N, P>;
   }
 }
 
@@ -685,11 +700,14 @@ StepFunction<D> select_small_step(const DemModel<D>& m) {
   if (m.n > kSmallSystem || m.parts != 1 || m.features.broad_phase == BroadPhase::grid ||
       m.integrator == DemIntegrator::abm4_events || m.features.external_contacts)
     return nullptr;
-  // One and two particles (V1, Cases I and II) get their count compiled in;
-  // 3..kSmallSystem share the instantiation that reads it.
-  if (m.n == 1) return small_step_for<D, 1>(m.features);
-  if (m.n == 2) return small_step_for<D, 2>(m.features);
-  return small_step_for<D, 0>(m.features);
+  // One and two particles (V1, Cases I and II) get their count compiled in,
+  // and with one plane (the floor, or the bar's top) the plane count too;
+  // 3..kSmallSystem share the instantiation that reads both. (No host totals
+  // follow the planes in the ledger: external contacts are excluded above.)
+  const bool one_plane = m.plane_point.size() == 1;
+  if (m.n == 1) return one_plane ? small_step_for<D, 1, 1>(m.features) : small_step_for<D, 1, 0>(m.features);
+  if (m.n == 2) return one_plane ? small_step_for<D, 2, 1>(m.features) : small_step_for<D, 2, 0>(m.features);
+  return small_step_for<D, 0, 0>(m.features);
 }
 template StepFunction<1> select_small_step<1>(const DemModel<1>&);
 template StepFunction<2> select_small_step<2>(const DemModel<2>&);

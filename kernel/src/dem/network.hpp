@@ -40,8 +40,8 @@ void add_outer(double* t, double weight, const double (&n)[D]) {
 /// Gershgorin bound on the squared highest frequency of the contacts touching
 /// at positions x: listed pairs that overlap and planes a sphere reaches.
 /// Hertz: K is the tangent stiffness S_n = 2 E* √(R* δ) at the contact's
-/// current overlap (the pair list caches E*). N: particle_count.
-template <int D, bool Hertz = false, int N = 0>
+/// current overlap (the pair list caches E*). N: particle_count; P: plane_count.
+template <int D, bool Hertz = false, int N = 0, int P = 0>
 [[gnu::always_inline]] inline double network_omega2(const DemModel<D>& m, const DemState<D>& s, DemWorkspace<D>& w, ConstColumns<D> x) {
   constexpr int kEntries = D * (D + 1) / 2;
   const std::int32_t n = particle_count<N>(m);
@@ -62,7 +62,7 @@ template <int D, bool Hertz = false, int N = 0>
     network::add_outer<D>(t + std::int64_t{i} * kEntries, omega2, normal);
     network::add_outer<D>(t + std::int64_t{j} * kEntries, omega2, normal);
   }
-  const std::size_t planes = m.plane_point.size();
+  const std::size_t planes = plane_count<P>(m.plane_point);
   for (std::size_t p = 0; p < planes; ++p) {
     const std::array<double, D> point = plane_point_at(m, s, p, s.time);
     double normal[D];
