@@ -235,12 +235,14 @@ TEST(ObliqueImpact, SweepNeverGainsEnergy) {
 // rest: it settles where the tangential spring carries m g sin θ (stretch
 // m g sin θ / k_t) and moves no further. Its inertia is made large (a block
 // rather than a disk) so that it cannot roll: what holds it is the sticking
-// spring alone. tests/long repeats it for 1e6 steps.
-TEST(RestOnSlope, BlockStaysAtRestBelowTheFrictionAngle) {
+// spring alone. Verlet (the incline's default) and abm4_events; tests/long
+// repeats it for 1e6 steps (Verlet).
+void stays_at_rest_below_the_friction_angle(DemIntegrator integrator) {
   const double theta = 20 * kPi / 180, mu = 0.5;
   ASSERT_LT(std::tan(theta), mu);
   DemDesc<2> d = incline<2>(theta, mu, 0.0, 0.5);
   d.particles[0].inertia = 1e12;
+  d.integrator = integrator;
   DemWorld<2> world;
   ASSERT_TRUE(world.build(d).ok());
   const double x0 = world.state.x[0][0], y0 = world.state.x[1][0];
@@ -251,12 +253,17 @@ TEST(RestOnSlope, BlockStaysAtRestBelowTheFrictionAngle) {
     peak = std::max(peak, std::hypot(world.state.x[0][0] - x0, world.state.x[1][0] - y0));
   }
   const double speed = std::hypot(world.state.v[0][0], world.state.v[1][0]);
-  std::printf("rest on slope: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n", peak, stretch, speed);
+  std::printf("rest on slope, %s: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n",
+              integrator_name(integrator), peak, stretch, speed);
   // At most twice the static stretch (a suddenly loaded spring's overshoot),
   // and at rest: the start-up oscillation (1e-2 m/s at most) decays as
   // e^{−ζ ω_t t} = e^{−500} in 1 s; 1e-12 m/s is round-off of the forces.
   EXPECT_LE(peak, 2 * stretch);
   EXPECT_LT(speed, 1e-12);
+}
+TEST(RestOnSlope, BlockStaysAtRestBelowTheFrictionAngle) {
+  stays_at_rest_below_the_friction_angle(DemIntegrator::verlet);
+  stays_at_rest_below_the_friction_angle(DemIntegrator::abm4_events);
 }
 
 // Rolling resistance on a flat floor: a disk rolling without slip at v0
