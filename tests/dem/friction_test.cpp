@@ -66,7 +66,7 @@ Slope run_slope(const DemDesc<D>& d, double theta, double t1, double t2) {
 // exactly; what remains is the spring's stretch held by a growing force
 // (none: the friction force is constant) and round-off over 1e5 steps.
 constexpr DemIntegrator kRotating[] = {DemIntegrator::verlet, DemIntegrator::symplectic_euler, DemIntegrator::rk4,
-                                       DemIntegrator::abm4};
+                                       DemIntegrator::abm4, DemIntegrator::abm4_events};
 
 template <int D>
 void rolls_without_slip(DemIntegrator integrator) {
@@ -235,12 +235,14 @@ TEST(ObliqueImpact, SweepNeverGainsEnergy) {
 // rest: it settles where the tangential spring carries m g sin θ (stretch
 // m g sin θ / k_t) and moves no further. Its inertia is made large (a block
 // rather than a disk) so that it cannot roll: what holds it is the sticking
-// spring alone. tests/long repeats it for 1e6 steps.
-TEST(RestOnSlope, BlockStaysAtRestBelowTheFrictionAngle) {
+// spring alone. Verlet (the incline's default) and abm4_events; tests/long
+// repeats it for 1e6 steps (Verlet).
+void stays_at_rest_below_the_friction_angle(DemIntegrator integrator) {
   const double theta = 20 * kPi / 180, mu = 0.5;
   ASSERT_LT(std::tan(theta), mu);
   DemDesc<2> d = incline<2>(theta, mu, 0.0, 0.5);
   d.particles[0].inertia = 1e12;
+  d.integrator = integrator;
   DemWorld<2> world;
   ASSERT_TRUE(world.build(d).ok());
   const double x0 = world.state.x[0][0], y0 = world.state.x[1][0];
@@ -251,12 +253,17 @@ TEST(RestOnSlope, BlockStaysAtRestBelowTheFrictionAngle) {
     peak = std::max(peak, std::hypot(world.state.x[0][0] - x0, world.state.x[1][0] - y0));
   }
   const double speed = std::hypot(world.state.v[0][0], world.state.v[1][0]);
-  std::printf("rest on slope: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n", peak, stretch, speed);
+  std::printf("rest on slope, %s: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n",
+              integrator_name(integrator), peak, stretch, speed);
   // At most twice the static stretch (a suddenly loaded spring's overshoot),
   // and at rest: the start-up oscillation (1e-2 m/s at most) decays as
   // e^{−ζ ω_t t} = e^{−500} in 1 s; 1e-12 m/s is round-off of the forces.
   EXPECT_LE(peak, 2 * stretch);
   EXPECT_LT(speed, 1e-12);
+}
+TEST(RestOnSlope, BlockStaysAtRestBelowTheFrictionAngle) {
+  stays_at_rest_below_the_friction_angle(DemIntegrator::verlet);
+  stays_at_rest_below_the_friction_angle(DemIntegrator::abm4_events);
 }
 
 // Rolling resistance on a flat floor: a disk rolling without slip at v0
@@ -431,8 +438,27 @@ TEST(ContactRecords, SnapshotOfAnotherTangentialLawIsRefused) {
   EXPECT_EQ(restore_into(other), SnapshotStatus::other_model);
 }
 
-INSTANTIATE_TEST_SUITE_P(Integrators, ContactRecords, ::testing::ValuesIn(kRotating),
+// abm4_events takes no grid with rotation (build_dem refuses it): its own test below.
+constexpr DemIntegrator kGridRotating[] = {DemIntegrator::verlet, DemIntegrator::symplectic_euler, DemIntegrator::rk4,
+                                           DemIntegrator::abm4};
+INSTANTIATE_TEST_SUITE_P(Integrators, ContactRecords, ::testing::ValuesIn(kGridRotating),
                          [](const auto& param_info) { return std::string(integrator_name(param_info.param)); });
+
+// abm4_events with friction and rolling resistance: a dozen disks falling
+// into the box (two parts, all pairs), every impact a located event; the
+// same bits on two workers and after a snapshot, no allocation.
+TEST(ContactRecords, Abm4EventsTwoWorkersSnapshotsAndNoAllocation) {
+  DemDesc<2> d = box_of_disks(12, 16, DemIntegrator::abm4_events);
+  d.split_from = 6;
+  DemWorld<2> one;
+  xfdem::testing::expect_same_bits_on_two_workers_and_after_a_snapshot(d, one, 6000);
+  ASSERT_EQ(one.model.parts, 2);
+  EXPECT_GT(one.state.events_located, 10);
+  int sticking = 0;
+  for (std::int32_t c = 0; c < one.state.pair_count; ++c) sticking += one.state.pair_xi[0][c] != 0.0 ? 1 : 0;
+  for (std::size_t c = 0; c < one.state.plane_xi[0].size(); ++c) sticking += one.state.plane_xi[0][c] != 0.0 ? 1 : 0;
+  EXPECT_GT(sticking, 0);
+}
 
 // Bad input is refused naming the key.
 TEST(FrictionInputs, RefusedNamingTheKey) {
@@ -460,17 +486,15 @@ TEST(FrictionInputs, RefusedNamingTheKey) {
   d = good;
   d.particles[0].angular_velocity = {INFINITY};
   refused(d, "particles[0].angular_velocity:");
+  // abm4_events keeps each located piece's springs before the step is done:
+  // it takes no grid, whose rebuild could still refuse the step.
   d = good;
   d.integrator = DemIntegrator::abm4_events;
-  refused(d, "integrator: abm4_events cannot carry friction, rolling friction or the hertz law");
-  {  // the reason and the way out, whole (the message has a fixed buffer)
-    DemWorld<2> world;
-    const std::string message = world.build(d).message;
-    EXPECT_NE(message.find("first-order history with stick-slip switches it does not locate (use abm4, rk4, verlet or "
-                           "symplectic_euler)"),
-              std::string::npos)
-        << message;
-  }
+  d.all_pairs_up_to = 0;
+  d.particles.push_back(d.particles[0]);
+  d.particles.back().position[1] += 1.0;
+  refused(d, "integrator: abm4_events with friction, rolling friction or the hertz law takes the pairs of broad phase "
+             "none or all_pairs");
   DemDesc<1> line;
   line.dt = 1e-5;
   line.friction = 0.3;

@@ -304,7 +304,7 @@ void gross_sliding(double restitution) {
   const double vn = 0.2, vt = 1.0, mu = 0.3;
   const double e_star = kE / (1 - kNu * kNu);
   const double tc = 2 * hertz_integral() * delta_max(kMass, kRadius, e_star, vn) / vn;
-  for (DemIntegrator integrator : {DemIntegrator::verlet, DemIntegrator::rk4}) {
+  for (DemIntegrator integrator : {DemIntegrator::verlet, DemIntegrator::rk4, DemIntegrator::abm4_events}) {
     const Measured r = wall_impact<D>(vn, vt, restitution, mu, true, tc / 2000, integrator);
     const double e = r.rebound;
     const double dvt = vt - r.vt_after;
@@ -503,9 +503,6 @@ TEST(HertzInputs, RefusedNamingTheKey) {
   d = good;
   d.tangential_stiffness_ratio = 0.5;
   refused(d, "tangential_stiffness_ratio");
-  d = good;
-  d.integrator = DemIntegrator::abm4_events;
-  refused(d, "integrator: abm4_events cannot carry friction, rolling friction or the hertz law");
   // The linear laws take none of the hertz keys.
   DemDesc<2> linear = good;
   linear.law = ContactLaw::linear;

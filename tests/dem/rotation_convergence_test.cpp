@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -23,8 +24,9 @@ namespace xfdem::testing {
 namespace {
 
 constexpr double kG = 9.81;
+constexpr double kPi = 3.14159265358979323846;
 constexpr DemIntegrator kRotating[] = {DemIntegrator::verlet, DemIntegrator::symplectic_euler, DemIntegrator::rk4,
-                                       DemIntegrator::abm4};
+                                       DemIntegrator::abm4, DemIntegrator::abm4_events};
 
 // A disk (2D) or sphere (3D), m = 1, r = 0.05, k = 1e6, undamped, on a floor
 // (normal +y, the incline of friction_test.cpp at θ = 0), pressed in by its
@@ -132,6 +134,120 @@ void sticking_order(DemIntegrator integrator) {
               errors[1], errors[2], p);
   const double expected = integrator == DemIntegrator::verlet ? 2 : 1;
   EXPECT_NEAR(p, expected, 0.25);
+}
+
+// Oblique impacts on the floor (no gravity, undamped linear law, m = 1,
+// r = 0.05, k = 1e6: ω_n = 1e3 rad/s, contact time π/ω_n), run to T = 6 ms,
+// past the lift-off: two contact events, which abm4_events locates.
+template <int D>
+DemDesc<D> impact(DemIntegrator integrator, double dt, double mu, double vt, double vn) {
+  DemDesc<D> d;
+  d.dt = dt;
+  d.friction = mu;
+  d.integrator = integrator;
+  ParticleDesc<D> p;
+  p.mass = 1;
+  p.radius = 0.05;
+  p.stiffness = 1e6;
+  p.position[1] = p.radius + 1e-3 * vn;  // touches down at t = 1 ms
+  p.velocity[0] = vt;
+  p.velocity[1] = -vn;
+  d.particles.push_back(p);
+  PlaneDesc<D> floor;
+  floor.normal[1] = 1;
+  d.planes.push_back(floor);
+  return d;
+}
+
+/// (x, v_x, y, v_y, ω) of the disk or sphere at T = steps · dt.
+template <int D>
+std::array<double, 5> impact_end(const DemDesc<D>& d, std::int64_t steps) {
+  DemWorld<D> world;
+  const BuildResult built = world.build(d);
+  EXPECT_TRUE(built.ok()) << built.message;
+  for (std::int64_t k = 0; k < steps; ++k) EXPECT_EQ(world.step(), StepStatus::ok);
+  const DemState<D>& s = world.state;
+  return {s.x[0][0], s.v[0][0], s.x[1][0], s.v[1][0], spin_z(s)};
+}
+
+// Gross sliding (v_t = 5 v_n, μ = 0.3): the friction is −μ F_n at every
+// evaluation, a smooth function of the state inside the contact, so the
+// motion has a closed form, with τ = π/ω_n the contact time and
+// t_off = t_on + τ:
+//   v_x = v_t − μ v_n (1 − cos ω_n (t − t_on)) inside, v_t − 2 μ v_n after,
+//   x(T) = v_t T − μ v_n τ − 2 μ v_n (T − t_off), y(T) = r + v_n (T − t_off),
+//   v_y = v_n, ω = −2 μ v_n m r / I after.
+// abm4_events lands a step on both events and keeps its fourth order; abm4,
+// which steps across the force's kinks, is printed beside it.
+template <int D>
+void gross_sliding_impact_order(DemIntegrator integrator) {
+  const double mu = 0.3, vn = 1.0, vt = 5.0, r = 0.05, wn = 1e3, T = 6e-3;
+  const double tau = kPi / wn, t_on = 1e-3, t_off = t_on + tau;
+  const double ratio = 1 / inertia_factor<D>();  // m r²/I
+  const std::array<double, 5> exact{vt * T - mu * vn * tau - 2 * mu * vn * (T - t_off), vt - 2 * mu * vn,
+                                    r + vn * (T - t_off), vn, -2 * mu * vn * ratio / r};
+  const std::array<double, 5> scale{mu * vn / wn, mu * vn, vn / wn, vn, mu * vn * ratio / r};
+  std::vector<double> dts, errors;
+  for (double wh : {0.1, 0.05, 0.025}) {
+    const double dt = wh / wn;
+    const auto steps = static_cast<std::int64_t>(std::llround(T / dt));
+    const std::array<double, 5> got = impact_end<D>(impact<D>(integrator, dt, mu, vt, vn), steps);
+    double e = 0;
+    for (int k = 0; k < 5; ++k) e = std::max(e, std::fabs(got[k] - exact[k]) / scale[k]);
+    dts.push_back(dt);
+    errors.push_back(e);
+  }
+  const double p = observed_order(dts, errors);
+  std::printf("D=%d gross-sliding impact %-12s errors %.3e %.3e %.3e  order %.2f\n", D, integrator_name(integrator),
+              errors[0], errors[1], errors[2], p);
+  if (integrator == DemIntegrator::abm4_events) {
+    EXPECT_NEAR(p, 4.0, 0.3);
+  }
+}
+
+// Stick and slip (v_t = 0.2 v_n, μ = 0.3): the contact point slides, sticks
+// on the tangential spring, and slips again as the normal force falls. The
+// spring is advanced once per step (first order while sticking) and the
+// switches between the two are no events, so abm4_events is first order
+// here. No closed form: the reference is rk4 at a step 64 times finer than
+// the finest measured (its own error, first order too, is 1/64 of it).
+template <int D>
+void stick_slip_impact_order(DemIntegrator integrator) {
+  const double mu = 0.3, vn = 1.0, vt = 0.2, wn = 1e3, T = 6e-3;
+  const double fine = 0.025 / wn / 64;
+  const std::array<double, 5> ref =
+      impact_end<D>(impact<D>(DemIntegrator::rk4, fine, mu, vt, vn), std::llround(T / fine));
+  const double ratio = 1 / inertia_factor<D>();
+  const std::array<double, 5> scale{mu * vn / wn, mu * vn, vn / wn, vn, mu * vn * ratio / 0.05};
+  std::vector<double> dts, errors;
+  for (double wh : {0.1, 0.05, 0.025}) {
+    const double dt = wh / wn;
+    const std::array<double, 5> got = impact_end<D>(impact<D>(integrator, dt, mu, vt, vn), std::llround(T / dt));
+    double e = 0;
+    for (int k = 0; k < 5; ++k) e = std::max(e, std::fabs(got[k] - ref[k]) / scale[k]);
+    dts.push_back(dt);
+    errors.push_back(e);
+  }
+  const double p = observed_order(dts, errors);
+  std::printf("D=%d stick-slip impact %-12s errors %.3e %.3e %.3e  order %.2f\n", D, integrator_name(integrator),
+              errors[0], errors[1], errors[2], p);
+  if (integrator == DemIntegrator::abm4_events) {
+    EXPECT_NEAR(p, 1.0, 0.25);
+  }
+}
+
+TEST(RotationConvergence, Abm4EventsKeepsFourthOrderThroughAGrossSlidingImpact) {
+  for (DemIntegrator integrator : {DemIntegrator::abm4, DemIntegrator::abm4_events}) {
+    gross_sliding_impact_order<2>(integrator);
+    gross_sliding_impact_order<3>(integrator);
+  }
+}
+
+TEST(RotationConvergence, Abm4EventsIsFirstOrderThroughAStickSlipImpact) {
+  for (DemIntegrator integrator : {DemIntegrator::abm4, DemIntegrator::abm4_events}) {
+    stick_slip_impact_order<2>(integrator);
+    stick_slip_impact_order<3>(integrator);
+  }
 }
 
 TEST(RotationConvergence, SlidingKeepsEachIntegratorsOrder) {

@@ -16,14 +16,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 template <int D>
-void stays_at_rest() {
+void stays_at_rest(DemIntegrator integrator) {
   const double theta = 20 * kPi / 180, mu = 0.5, g = 9.81;
   ASSERT_LT(std::tan(theta), mu);
   DemDesc<D> d;
   d.dt = 1e-5;
   d.damping_ratio = 0.5;
   d.friction = mu;
-  d.integrator = DemIntegrator::verlet;
+  d.integrator = integrator;
   d.gravity[1] = -g;
   ParticleDesc<D> p;
   p.mass = 1;
@@ -59,14 +59,20 @@ void stays_at_rest() {
   }
   double v2 = 0;
   for (int k = 0; k < D; ++k) v2 += world.state.v[k][0] * world.state.v[k][0];
-  std::printf("D=%d 1e6 steps at rest: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n", D, peak,
-              stretch, std::sqrt(v2));
+  std::printf("D=%d %s 1e6 steps at rest: peak displacement %.3e m (static stretch %.3e m), speed %.3e m/s\n", D,
+              integrator_name(integrator), peak, stretch, std::sqrt(v2));
   EXPECT_LE(peak, 2 * stretch);  // a suddenly loaded spring overshoots by at most its static stretch
   EXPECT_LT(std::sqrt(v2), 1e-12);
 }
 
-TEST(FrictionLong, DiskBlockStaysAtRestOnASlopeForAMillionSteps) { stays_at_rest<2>(); }
-TEST(FrictionLong, SphereBlockStaysAtRestOnATiltedSlopeForAMillionSteps) { stays_at_rest<3>(); }
+TEST(FrictionLong, DiskBlockStaysAtRestOnASlopeForAMillionSteps) {
+  stays_at_rest<2>(DemIntegrator::verlet);
+  stays_at_rest<2>(DemIntegrator::abm4_events);
+}
+TEST(FrictionLong, SphereBlockStaysAtRestOnATiltedSlopeForAMillionSteps) {
+  stays_at_rest<3>(DemIntegrator::verlet);
+  stays_at_rest<3>(DemIntegrator::abm4_events);
+}
 
 }  // namespace
 }  // namespace xfdem::testing

@@ -511,6 +511,11 @@ struct DemWorkspace {
   /// RK4's stage angular velocity and acceleration and their weighted sums (and the 2D angle's).
   std::array<std::vector<double>, spin_components(D)> ws, alphas, sum_w;
   std::array<std::vector<double>, angle_components(D)> angle_s, sum_angle;
+  /// abm4_events with rotation: the start of the step's remaining interval
+  /// (with x0, v0): acceleration, angular velocity and acceleration, 2D angle.
+  std::array<std::vector<double>, D> start_a;
+  std::array<std::vector<double>, spin_components(D)> start_w, start_alpha;
+  std::array<std::vector<double>, angle_components(D)> start_angle;
   std::vector<std::int32_t> old_pair_i, old_pair_j;
   std::array<std::vector<double>, spring_components(D)> old_pair_xi;
 };

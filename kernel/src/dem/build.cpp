@@ -350,6 +350,12 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
     for (auto* c : {&w.ws, &w.alphas, &w.sum_w}) size_columns(*c, un);
     size_columns(w.angle_s, un);
     size_columns(w.sum_angle, un);
+    if (desc.integrator == DemIntegrator::abm4_events) {
+      size_columns(w.start_a, un);
+      size_columns(w.start_w, un);
+      size_columns(w.start_alpha, un);
+      size_columns(w.start_angle, un);
+    }
     size_columns(s.pair_xi, up);
     size_columns(s.plane_xi, un * desc.planes.size());
     if (m.features.broad_phase == BroadPhase::grid) {
@@ -562,19 +568,6 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
       return BuildResult::failure(Code::invalid_argument,
                                   "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",
                                   desc.friction > 0 ? "friction" : "rolling_friction");
-    // abm4_events exists for its fourth order across contact events; the
-    // tangential spring is advanced once per step (first order, even while
-    // sticking), a stick-slip switch is no event of the contact set, and the
-    // frozen path's continuation of a contact past its end is the linear law's
-    // (hertz's δ^{3/2} has none): the located step would be first order like
-    // abm4, at many times its cost (docs/dem.md, "Rotation and friction").
-    if (desc.integrator == DemIntegrator::abm4_events)
-      return BuildResult::failure(Code::invalid_argument,
-                                  "integrator: %s cannot carry friction, rolling friction or the hertz law: its located "
-                                  "events keep fourth order only for forces of (x, v) alone that continue past a "
-                                  "contact's end; a tangential spring is first-order history with stick-slip switches "
-                                  "it does not locate (use abm4, rk4, verlet or symplectic_euler)",
-                                  integrator_name(desc.integrator));
   }
   if (desc.external_torques && !(D == 2 && rotates(desc)))
     return BuildResult::failure(Code::invalid_argument,
@@ -607,6 +600,15 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                 "particles: %lld particles paired all with all need %lld pairs, more than this build "
                                 "can index (2147483647); lower all_pairs_up_to",
                                 (long long)n, (long long)sizes.max_pairs);
+  // abm4_events with rotation keeps each piece's tangential springs as it
+  // lands, before the step is known to complete; a grid rebuild is the one
+  // stage that could still refuse the step, and would leave them advanced.
+  if (desc.integrator == DemIntegrator::abm4_events && rotates(desc) && sizes.broad_phase == BroadPhase::grid)
+    return BuildResult::failure(Code::invalid_argument,
+                                "integrator: %s with friction, rolling friction or the hertz law takes the pairs of "
+                                "broad phase none or all_pairs (%lld particles need the grid; raise all_pairs_up_to "
+                                "or use abm4, rk4, verlet or symplectic_euler)",
+                                integrator_name(desc.integrator), (long long)n);
   if (sizes.max_cells > dem_detail::kMaxGridCells)
     return BuildResult::failure(Code::capacity, "capacities.max_grid_cells: %lld is more than this build can index (%lld)",
                                 (long long)sizes.max_cells, (long long)dem_detail::kMaxGridCells);

@@ -74,6 +74,53 @@ std::array<double, D> plane_point_at(const DemModel<D>& m, const DemState<D>& s,
   return point;
 }
 
+/// The contact indicator (contact_indicator) of particle i and plane p at
+/// (x, v), the plane's point at that time given: > 0 when the contact is on.
+template <int D>
+double plane_indicator(const DemModel<D>& m, const DemState<D>& s, std::size_t p, const std::array<double, D>& point,
+                       ConstColumns<D> x, ConstColumns<D> v, std::int32_t i) {
+  const auto& normal = m.plane_normal[p];
+  double gap = 0, rate = s.plane_speed[p];
+  for (int d = 0; d < D; ++d) {
+    gap += (x[d][i] - point[d]) * normal[d];
+    rate -= v[d][i] * normal[d];
+  }
+  return contact_indicator(m.features.nontensile, m.radius[i] - gap, rate, m.stiffness[i], m.plane_eta[i]);
+}
+
+/// The contact indicator of listed pair c at (x, v): > 0 when the contact is on.
+template <int D>
+double pair_indicator(const DemModel<D>& m, const DemState<D>& s, std::int32_t c, ConstColumns<D> x,
+                      ConstColumns<D> v) {
+  const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
+  double dx[D], dist = 0;
+  for (int d = 0; d < D; ++d) {
+    dx[d] = x[d][j] - x[d][i];
+    dist += dx[d] * dx[d];
+  }
+  dist = std::sqrt(dist);
+  double rate = 0;
+  if (dist > 0)
+    for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * dx[d] / dist;
+  return contact_indicator(m.features.nontensile, m.radius[i] + m.radius[j] - dist, rate, s.pair_stiffness[c],
+                           s.pair_eta[c]);
+}
+
+/// True when some contact of the planes or the pair list is on at (xa, va,
+/// time ta) and off at (xb, vb, tb) or the reverse (abm4_events' test).
+template <int D>
+bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, double ta, ConstColumns<D> xa,
+                         ConstColumns<D> va, double tb, ConstColumns<D> xb, ConstColumns<D> vb) {
+  for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
+    const auto pa = plane_point_at(m, s, p, ta), pb = plane_point_at(m, s, p, tb);
+    for (std::int32_t i = 0; i < m.n; ++i)
+      if ((plane_indicator<D>(m, s, p, pa, xa, va, i) > 0) != (plane_indicator<D>(m, s, p, pb, xb, vb, i) > 0)) return true;
+  }
+  for (std::int32_t c = 0; c < s.pair_count; ++c)
+    if ((pair_indicator<D>(m, s, c, xa, va) > 0) != (pair_indicator<D>(m, s, c, xb, vb) > 0)) return true;
+  return false;
+}
+
 /// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i), plane by plane
 /// (so each particle receives its plane contributions in plane order). Also
 /// sums each plane's force into w.plane_force for the impulse ledger. Returns

@@ -68,25 +68,44 @@ namespace {
 
 /// The law's run-time choices as template arguments, so that the contact
 /// kernels below test none of them per contact.
-template <ContactLaw L, bool Friction, bool Rolling>
+/// Frozen: abm4_events' trial and pieces, whose contact set is the one of
+/// the interval's start (DemWorkspace::mode_x, mode_v, mode_time) and whose
+/// linear normal law continues past a contact's end (see normal_of).
+template <ContactLaw L, bool Friction, bool Rolling, bool Frozen = false>
 struct LawKind {
   static constexpr ContactLaw law = L;
-  static constexpr bool friction = Friction, rolling = Rolling;
+  static constexpr bool friction = Friction, rolling = Rolling, frozen = Frozen;
 };
 
-/// Calls f(LawKind<...>{}) for the model's law, friction and rolling resistance.
+/// Calls f(LawKind<...>{}) for the model's law, friction and rolling
+/// resistance (frozen: the abm4_events kernels; only that integrator asks).
 template <int D, class F>
-decltype(auto) with_law(const DemModel<D>& m, F&& f) {
+decltype(auto) with_law(const DemModel<D>& m, F&& f, bool frozen = false) {
   const bool friction = m.friction > 0, rolling = m.rolling_friction > 0;
-  auto pick = [&]<ContactLaw L>() -> decltype(auto) {
-    if (friction) return rolling ? f(LawKind<L, true, true>{}) : f(LawKind<L, true, false>{});
-    return rolling ? f(LawKind<L, false, true>{}) : f(LawKind<L, false, false>{});
+  auto pick = [&]<ContactLaw L, bool Z>() -> decltype(auto) {
+    if (friction) return rolling ? f(LawKind<L, true, true, Z>{}) : f(LawKind<L, true, false, Z>{});
+    return rolling ? f(LawKind<L, false, true, Z>{}) : f(LawKind<L, false, false, Z>{});
   };
-  switch (m.law) {
-    case ContactLaw::hertz: return pick.template operator()<ContactLaw::hertz>();
-    case ContactLaw::linear_nontensile: return pick.template operator()<ContactLaw::linear_nontensile>();
-    default: return pick.template operator()<ContactLaw::linear>();
-  }
+  auto law = [&]<bool Z>() -> decltype(auto) {
+    switch (m.law) {
+      case ContactLaw::hertz: return pick.template operator()<ContactLaw::hertz, Z>();
+      case ContactLaw::linear_nontensile: return pick.template operator()<ContactLaw::linear_nontensile, Z>();
+      default: return pick.template operator()<ContactLaw::linear, Z>();
+    }
+  };
+  if (frozen && m.integrator == DemIntegrator::abm4_events) return law.template operator()<true>();
+  return law.template operator()<false>();
+}
+
+/// The linear laws' normal force at a contact (overlap δ, rate δ'). Frozen
+/// (a contact of the interval start's set): the spring-dashpot continued
+/// past δ = 0 without the cut, as the frictionless frozen kernel continues
+/// it, so that a trial or a piece that crosses the contact's end sees a
+/// force continuous in the state; the set's change is located instead.
+template <class Kind>
+inline double normal_of(double K, double eta, double overlap, double rate) {
+  if constexpr (Kind::frozen) return normal_force<true, false>(K, eta, overlap, rate);
+  return normal_force(Kind::law == ContactLaw::linear_nontensile, K, eta, overlap, rate);
 }
 
 /// What the contact law reads of the model, copied out of it once per
@@ -134,7 +153,7 @@ template <int D, class Kind>
     hc = hertz_contact(K, eta, m.radius[i] * m.radius[j] / reach, m_eff, m.hertz_damping, reach - dist, rate);
     r.fn = hc.fn;
   } else {
-    r.fn = normal_force(Kind::law == ContactLaw::linear_nontensile, K, eta, reach - dist, rate);
+    r.fn = normal_of<Kind>(K, eta, reach - dist, rate);
   }
   // The contact point's sliding velocity, j relative to i: (v_j − v_i) − (r_i ω_i + r_j ω_j) × n.
   double spin[S], turn[D], vt[D], vn = 0;
@@ -208,7 +227,7 @@ template <int D, class Kind>
                        m.hertz_damping, overlap, rate);
     r.fn = hc.fn;
   } else {
-    r.fn = normal_force(Kind::law == ContactLaw::linear_nontensile, m.stiffness[i], m.plane_eta[i], overlap, rate);
+    r.fn = normal_of<Kind>(m.stiffness[i], m.plane_eta[i], overlap, rate);
   }
   double spin[S], turn[D], vt[D], vn = 0;
   for (int k = 0; k < S; ++k) spin[k] = arm * wi[k];
@@ -305,8 +324,8 @@ struct Views {
 /// total normal force into totals[p]. Returns the sum of the tags of the
 /// contacts that carried a force.
 template <int D, class Kind>
-std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<D>& at, double t, double h, bool keep,
-                              std::int32_t begin, std::int32_t end, double* totals) {
+std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const DemWorkspace<D>& w, const Views<D>& at,
+                              double t, double h, bool keep, std::int32_t begin, std::int32_t end, double* totals) {
   constexpr int S = spin_components(D);
   const std::int32_t n = m.n;
   const LawView<D> law(m);
@@ -318,6 +337,9 @@ std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<
     const std::array<double, D> point = plane_point_at(m, s, p, t);
     const std::array<double, D> normal = m.plane_normal[p];
     const double speed = s.plane_speed[p];
+    // Frozen: whether the contact is on is decided at the interval start, with the plane where it was then.
+    std::array<double, D> point0{};
+    if constexpr (Kind::frozen) point0 = plane_point_at(m, s, p, w.mode_time);
     double* xi_of[D];
     for (int d = 0; d < D; ++d) xi_of[d] = s.plane_xi[d].data() + p * static_cast<std::size_t>(n);
     double total = 0;
@@ -335,7 +357,11 @@ std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<
       double gap = 0;
       for (int d = 0; d < D; ++d) gap += (at.x[d][i] - point[d]) * normal[d];
       const double overlap = radius[i] - gap;
-      if (!(overlap > 0)) return forget(i);
+      if constexpr (Kind::frozen) {
+        if (!(plane_indicator<D>(m, s, p, point0, w.mode_x, w.mode_v, i) > 0)) return forget(i);
+      } else {
+        if (!(overlap > 0)) return forget(i);
+      }
       double vi[D], wi[S], xi[D];
       for (int d = 0; d < D; ++d) vi[d] = at.v[d][i];
       for (int k = 0; k < S; ++k) wi[k] = at.spin[k][i];
@@ -352,7 +378,7 @@ std::uint64_t granular_planes(const DemModel<D>& m, DemState<D>& s, const Views<
     int nonzero = 0, axis = 0;
     for (int d = 0; d < D; ++d)
       if (normal[d] != 0.0) ++nonzero, axis = d;
-    if (nonzero == 1) {
+    if (nonzero == 1 && !Kind::frozen) {
       // Axis-aligned (the usual box): for finite positions the other terms of
       // the gap are ±0, so one coordinate decides apart; `contact` re-tests in full.
       const double* xa = at.x[axis];
@@ -475,7 +501,8 @@ template <int D, bool NonTensile>
 /// contribution to a particle j >= split goes to the cross buffers (part 0 of
 /// a split step).
 template <int D, class Kind>
-StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const Views<D>& at, double h, bool keep,
+StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const DemWorkspace<D>& w, const Views<D>& at,
+                          double h, bool keep,
                           std::int32_t begin, std::int32_t end, std::int32_t split, Columns<D> cross,
                           const std::array<double*, spin_components(D)>& cross_spin, std::uint64_t& active) {
   constexpr int S = spin_components(D);
@@ -506,7 +533,8 @@ StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const Views<D>& 
         kept_dx[d][hits] = dx;
       }
       const double reach = radius[i] + radius[j];
-      const bool on = dist2 < reach * reach;  // false for NaN
+      bool on = dist2 < reach * reach;  // false for NaN
+      if constexpr (Kind::frozen) on = pair_indicator<D>(m, s, c, w.mode_x, w.mode_v) > 0;  // the start's set
       if constexpr (Kind::friction)
         if (keep)  // apart: the contact forgets its spring
           for (int d = 0; d < D; ++d) xi_of[d][c] = on ? xi_of[d][c] : 0.0;
@@ -516,7 +544,7 @@ StepStatus granular_pairs(const DemModel<D>& m, DemState<D>& s, const Views<D>& 
     }
     std::int32_t k = 0;
 #if defined(__SSE2__)
-    if constexpr (Kind::friction && !Kind::rolling && Kind::law != ContactLaw::hertz) {
+    if constexpr (Kind::friction && !Kind::rolling && Kind::law != ContactLaw::hertz && !Kind::frozen) {
       for (; k + 1 < hits; k += 2) {
         const std::int32_t ca = touching[k], cb = touching[k + 1];
         const std::int32_t ii[2] = {pi[ca], pi[cb]}, jj[2] = {pj[ca], pj[cb]};
@@ -636,7 +664,7 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
       }
     }
     double* totals = parts == 1 ? w.plane_force.data() : w.plane_force_part.data() + part * planes;
-    active[part] = granular_planes<D, Kind>(m, s, at, t, h, keep, begin, end, totals);
+    active[part] = granular_planes<D, Kind>(m, s, w, at, t, h, keep, begin, end, totals);
   });
   if (parts == 2)
     for (std::size_t p = 0; p < planes; ++p) w.plane_force[p] = w.plane_force_part[p] + w.plane_force_part[planes + p];
@@ -647,7 +675,7 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
   for (int k = 0; k < S; ++k) cross_spin[k] = w.cross_spin[k].data();
   StepStatus part_status[2] = {StepStatus::ok, StepStatus::ok};
   if (parts == 1) {
-    part_status[0] = granular_pairs<D, Kind>(m, s, at, h, keep, 0, s.pair_count, n, cross, cross_spin, active[0]);
+    part_status[0] = granular_pairs<D, Kind>(m, s, w, at, h, keep, 0, s.pair_count, n, cross, cross_spin, active[0]);
   } else {
     // The list is sorted by i: part 0 owns the pairs with i < split.
     const std::int32_t* first = s.pair_i.data();
@@ -657,10 +685,10 @@ StepStatus granular_forces(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
       if (part == 0) {
         for (auto& c : w.cross) std::fill(c.begin(), c.end(), 0.0);
         for (auto& c : w.cross_spin) std::fill(c.begin(), c.end(), 0.0);
-        part_status[0] = granular_pairs<D, Kind>(m, s, at, h, keep, 0, boundary, split, cross, cross_spin, active[0]);
+        part_status[0] = granular_pairs<D, Kind>(m, s, w, at, h, keep, 0, boundary, split, cross, cross_spin, active[0]);
       } else {
         part_status[1] =
-            granular_pairs<D, Kind>(m, s, at, h, keep, boundary, s.pair_count, n, cross, cross_spin, active[1]);
+            granular_pairs<D, Kind>(m, s, w, at, h, keep, boundary, s.pair_count, n, cross, cross_spin, active[1]);
       }
     });
     for (int d = 0; d < D; ++d)
@@ -730,7 +758,9 @@ StepStatus evaluate_at(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w,
   w.eval_time = t;
   const std::int64_t start = w.clock_ns != nullptr ? w.clock_ns() : 0;
   const StepStatus status =
-      built | with_law<D>(m, [&]<class Kind>(Kind) { return granular_forces<D, Kind>(m, s, w, at, t, offset, keep); });
+      built | with_law<D>(
+                  m, [&]<class Kind>(Kind) { return granular_forces<D, Kind>(m, s, w, at, t, offset, keep); },
+                  w.mode_x[0] != nullptr);
   if (w.clock_ns != nullptr) w.profile.contacts_ns += w.clock_ns() - start;
   return status;
 }
@@ -812,12 +842,15 @@ Views<D> views_of(const Column* cols, Copy copy) {
 /// by their own offset (h/2, h/2, h) without keeping them; the evaluation of
 /// y_n+1 keeps its springs, advanced by h with y_n+1's sliding velocity.
 /// The planes' impulse h/6 (F1 + 2F2 + 2F3 + F4) is left in w.plane_weighted.
+/// The step starts at time t with the columns' (q, rate, acc) and the
+/// planes' forces f0 there; finish false: without the evaluation of y_n+1
+/// (abm4_events' trials and pieces, which decide first whether to keep them).
 template <int D>
-StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count) {
+StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count, double t,
+                       double h, const double* f0, bool finish) {
   const std::int32_t n = m.n;
-  const double h = m.dt, half = 0.5 * h, sixth = h / 6.0, t = s.time;
+  const double half = 0.5 * h, sixth = h / 6.0;
   std::vector<double>& ledger = w.plane_weighted;
-  const double* f0 = s.hist_plane_force[s.history_head].data();
   for (int c = 0; c < count; ++c) {
     const Column& k = cols[c];
     for (std::int32_t i = 0; i < n; ++i) {
@@ -861,7 +894,7 @@ StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w,
       k.rate1[i] = k.rate[i] + sixth * (k.sr[i] + k.as[i]);
     }
   }
-  status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
+  if (finish) status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
   return status;
 }
 
@@ -873,7 +906,8 @@ StepStatus rk4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w,
 /// impulse of the corrector, h/24 (9 F* + 19 F_n − 5 F_n−1 + F_n−2), is left
 /// in w.plane_weighted.
 template <int D>
-StepStatus abm4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count) {
+StepStatus abm4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols, int count,
+                        bool finish) {
   const std::int32_t n = m.n;
   const double h = m.dt, c = h / 24.0, t = s.time;
   for (int k = 0; k < count; ++k) {
@@ -899,9 +933,148 @@ StepStatus abm4_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w
     for (std::int32_t i = 0; i < n; ++i)
       col.rate1[i] = col.rate[i] + c * (9.0 * col.as[i] + 19.0 * a0[i] - 5.0 * a1[i] + a2[i]);
   }
-  status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
+  if (finish) status |= evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t + h, h, true);
   return status;
 }
+
+namespace {
+
+/// abm4_events over the columns: abm4 (its RK4 start steps while the history
+/// fills) whose steps never straddle a change of the normal contact set, as
+/// the frictionless step_abm4_events (integrators.cpp). The trial runs with
+/// the contact set of the step start frozen (LawKind::frozen). If the set at
+/// its end differs, the step is redone in RK4 pieces from the start of the
+/// remaining interval (w.x0, v0, start_a and the rotation's start_w,
+/// start_alpha, start_angle): bisection to 2^-48 of it finds the first
+/// change, a piece lands just past it, and its plain evaluation advances and
+/// keeps the tangential springs by the piece's length; the rest starts there.
+/// The springs (first-order history, advanced once per piece) and the
+/// stick-slip switches, which are no change of the set, limit the order
+/// with friction (docs/dem.md, "Rotation and friction"). Leaves y_n+1 and its
+/// accelerations where the other integrators do, the planes' impulse in
+/// w.plane_weighted; `located`: the number of events (the history restarts).
+template <int D>
+StepStatus located_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, Column* cols,
+                           std::int32_t& located) {
+  constexpr int S = spin_components(D);
+  const double h = m.dt, t_n = s.time, t_end = s.time + h;
+  located = 0;
+  ConstColumns<D> x_n, v_n, x1, v1, x0, v0;
+  auto bind = [&] {
+    for (int d = 0; d < D; ++d) {
+      x1[d] = w.x1[d].data();
+      v1[d] = w.v1[d].data();
+      x0[d] = w.x0[d].data();
+      v0[d] = w.v0[d].data();
+    }
+  };
+  for (int d = 0; d < D; ++d) {
+    x_n[d] = s.x[d].data();
+    v_n[d] = s.v[d].data();
+  }
+  bind();
+  auto freeze = [&](ConstColumns<D> x, ConstColumns<D> v, double t) {
+    w.mode_x = x;
+    w.mode_v = v;
+    w.mode_time = t;
+  };
+  auto thaw = [&] {
+    w.mode_x = {};
+    w.mode_v = {};
+  };
+  auto finite = [&](ConstColumns<D> x, ConstColumns<D> v) {
+    double sum = 0;
+    for (int d = 0; d < D; ++d) sum += zero_probe<2>({x[d], v[d]}, 0, m.n);
+    return sum == 0.0;
+  };
+  freeze(x_n, v_n, t_n);
+  StepStatus status = s.history_count == 4 ? abm4_columns<D>(m, s, w, cols, D + S, false)
+                                           : rk4_columns<D>(m, s, w, cols, D + S, t_n, h,
+                                                            s.hist_plane_force[s.history_head].data(), false);
+  thaw();
+  if (has(status, kStepNotTaken)) return status;
+  // A non-finite trial is committed as it is (a NaN reads as "no contact").
+  if (!finite(x1, v1) || !contact_set_changed<D>(m, s, t_n, x_n, v_n, t_end, x1, v1))
+    return status | evaluate_at<D>(m, s, w, views_of<D>(cols, Copy::final), t_end, h, true);
+
+  // Event(s) inside the step: from the start of the remaining interval.
+  for (int d = 0; d < D; ++d) {
+    w.x0[d] = s.x[d];
+    w.v0[d] = s.v[d];
+    w.start_a[d] = s.hist_a[s.history_head][d];
+  }
+  for (int k = 0; k < S; ++k) {
+    w.start_w[k] = s.w[k];
+    w.start_alpha[k] = s.hist_alpha[s.history_head][k];
+  }
+  for (std::size_t k = 0; k < s.angle.size(); ++k) w.start_angle[k] = s.angle[k];
+  w.plane_force0 = s.hist_plane_force[s.history_head];
+  for (double& J : w.plane_step_impulse) J = 0.0;
+  Column piece_cols[D + S];
+  auto rebind = [&] {  // the columns from the start buffers (after every swap)
+    bind();
+    for (int k = 0; k < D + S; ++k) piece_cols[k] = cols[k];
+    for (int d = 0; d < D; ++d) {
+      piece_cols[d].q = w.x0[d].data(), piece_cols[d].rate = w.v0[d].data(), piece_cols[d].acc = w.start_a[d].data();
+      piece_cols[d].q1 = w.x1[d].data(), piece_cols[d].rate1 = w.v1[d].data(), piece_cols[d].acc1 = w.a0[d].data();
+    }
+    for (int k = 0; k < S; ++k) {
+      piece_cols[D + k].rate = w.start_w[k].data(), piece_cols[D + k].acc = w.start_alpha[k].data();
+      piece_cols[D + k].rate1 = w.w1[k].data(), piece_cols[D + k].acc1 = w.alpha1[k].data();
+    }
+    if constexpr (D == 2) piece_cols[D].q = w.start_angle[0].data(), piece_cols[D].q1 = w.angle1[0].data();
+  };
+  double t0 = t_n, remaining = h;
+  auto piece = [&](double length) {
+    freeze(x0, v0, t0);
+    const StepStatus st = rk4_columns<D>(m, s, w, piece_cols, D + S, t0, length, w.plane_force0.data(), false);
+    thaw();
+    return st;
+  };
+  for (;;) {
+    rebind();
+    status |= piece(remaining);
+    if (has(status, kStepNotTaken)) return status;
+    if (!contact_set_changed<D>(m, s, t0, x0, v0, t0 + remaining, x1, v1)) break;
+    if (located == m.capacities.max_events_per_step) {
+      status |= StepStatus::event_capacity;
+      break;
+    }
+    double lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 48; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      status |= piece(mid * remaining);
+      if (has(status, kStepNotTaken)) return status;
+      (contact_set_changed<D>(m, s, t0, x0, v0, t0 + mid * remaining, x1, v1) ? hi : lo) = mid;
+    }
+    // Land just past the event, where the new set holds; the springs advance by the piece.
+    const double length = hi * remaining;
+    status |= piece(length);
+    if (has(status, kStepNotTaken)) return status;
+    for (std::size_t p = 0; p < w.plane_step_impulse.size(); ++p) w.plane_step_impulse[p] += w.plane_weighted[p];
+    status |= evaluate_at<D>(m, s, w, views_of<D>(piece_cols, Copy::final), t0 + length, length, true);
+    if (has(status, kStepNotTaken)) return status;
+    for (int d = 0; d < D; ++d) {
+      w.x0[d].swap(w.x1[d]);
+      w.v0[d].swap(w.v1[d]);
+      w.start_a[d].swap(w.a0[d]);
+    }
+    for (int k = 0; k < S; ++k) {
+      w.start_w[k].swap(w.w1[k]);
+      w.start_alpha[k].swap(w.alpha1[k]);
+    }
+    for (std::size_t k = 0; k < s.angle.size(); ++k) w.start_angle[k].swap(w.angle1[k]);
+    w.plane_force0 = w.plane_force;
+    t0 += length;
+    remaining -= length;
+    ++located;
+  }
+  for (std::size_t p = 0; p < w.plane_step_impulse.size(); ++p)
+    w.plane_weighted[p] = w.plane_step_impulse[p] + w.plane_weighted[p];
+  return status | evaluate_at<D>(m, s, w, views_of<D>(piece_cols, Copy::final), t_end, remaining, true);
+}
+
+}  // namespace
 
 template <int D>
 StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
@@ -910,6 +1083,8 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   const double h = m.dt, half = 0.5 * m.dt;
   const bool verlet = m.integrator == DemIntegrator::verlet;
   StepStatus status = StepStatus::ok;
+  w.mode_x = {};  // plain evaluations but in abm4_events' trials and pieces
+  w.mode_v = {};
   if (s.history_count == 0) {
     status |= granular_evaluate_current<D>(m, s, w);
     if (has(status, kStepNotTaken)) return status;
@@ -949,6 +1124,7 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
       cols[D + k].acc_hist[age] = s.hist_alpha[slot][k].data();
     }
   }
+  const bool events = m.integrator == DemIntegrator::abm4_events;
   const bool abm4 = m.integrator == DemIntegrator::abm4 && s.history_count == 4;
   // rk4, and abm4's three start steps.
   const bool rk4 = m.integrator == DemIntegrator::rk4 || (m.integrator == DemIntegrator::abm4 && !abm4);
@@ -957,13 +1133,18 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   if (!verlet)
     for (int d = 0; d < D; ++d) cols[d].rate_half = w.v1[d].data();
 
-  if (abm4) {
+  std::int32_t located = 0;
+  if (events) {
+    // Stages 1-3 for the trial, every piece and y_n+1.
+    status |= located_columns<D>(m, s, w, cols, located);
+    if (has(status, kStepNotTaken)) return status;
+  } else if (abm4) {
     // Stages 1-3 for the prediction and for y_n+1.
-    status |= abm4_columns<D>(m, s, w, cols, D + S);
+    status |= abm4_columns<D>(m, s, w, cols, D + S, true);
     if (has(status, kStepNotTaken)) return status;
   } else if (rk4) {
     // Stages 1-3 in each of the four RK4 stages and the evaluation of y_n+1.
-    status |= rk4_columns<D>(m, s, w, cols, D + S);
+    status |= rk4_columns<D>(m, s, w, cols, D + S, s.time, h, s.hist_plane_force[s.history_head].data(), true);
     if (has(status, kStepNotTaken)) return status;
   } else {
     // Stage 1: kick and drift. Verlet: q' ← q' + h/2 q''; symplectic Euler: q' ← q' + h q''; then q ← q + h q'.
@@ -994,7 +1175,7 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   // Euler h F_n, RK4 and ABM4 their stages' (rk4_columns, abm4_columns).
   const double* force_start = s.hist_plane_force[s.history_head].data();
   for (std::size_t p = 0; p < s.plane_impulse.size(); ++p)
-    s.plane_impulse[p] += rk4 || abm4 ? w.plane_weighted[p]
+    s.plane_impulse[p] += rk4 || abm4 || events ? w.plane_weighted[p]
                           : verlet    ? half * (force_start[p] + w.plane_force[p])
                                       : h * force_start[p];
   // The new state, and its rates and accelerations into the next history slot.
@@ -1013,7 +1194,10 @@ StepStatus granular_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& 
   if constexpr (D == 2) s.angle[0].swap(w.angle1[0]);
   s.hist_plane_force[slot].swap(w.plane_force);
   s.history_head = slot;
-  s.history_count = std::min(s.history_count + 1, 4);
+  // An event restarts the history: it would span a kink of the right-hand side.
+  s.history_count = located > 0 ? 1 : std::min(s.history_count + 1, 4);
+  s.events_located += located;
+  s.peak_events = std::max(s.peak_events, located);
   ++s.step;
   s.time = static_cast<double>(s.step) * m.dt;
   if (m.features.broad_phase != BroadPhase::grid) {

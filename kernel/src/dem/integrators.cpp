@@ -20,7 +20,7 @@
 namespace xfdem {
 namespace {
 
-using dem_detail::contact_indicator;
+using dem_detail::contact_set_changed;
 using dem_detail::plane_count;
 using dem_detail::zero_probe;
 
@@ -405,49 +405,6 @@ StepStatus step_abm4(const Run& run) {
 }
 
 // ---- contact events (abm4_events) ------------------------------------------
-
-/// True when some contact is on at (xa, va, time ta) and off at (xb, vb, tb)
-/// or the reverse.
-template <int D>
-bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, double ta, ConstColumns<D> xa,
-                         ConstColumns<D> va, double tb, ConstColumns<D> xb, ConstColumns<D> vb) {
-  const bool nontensile = m.features.nontensile;
-  for (std::size_t p = 0; p < m.plane_point.size(); ++p) {
-    const auto pa = dem_detail::plane_point_at(m, s, p, ta), pb = dem_detail::plane_point_at(m, s, p, tb);
-    const auto& normal = m.plane_normal[p];
-    for (std::int32_t i = 0; i < m.n; ++i) {
-      double ga = 0, gb = 0, ra = s.plane_speed[p], rb = s.plane_speed[p];
-      for (int d = 0; d < D; ++d) {
-        ga += (xa[d][i] - pa[d]) * normal[d];
-        gb += (xb[d][i] - pb[d]) * normal[d];
-        ra -= va[d][i] * normal[d];
-        rb -= vb[d][i] * normal[d];
-      }
-      const double k = m.stiffness[i], eta = m.plane_eta[i];
-      const bool on_a = contact_indicator(nontensile, m.radius[i] - ga, ra, k, eta) > 0;
-      const bool on_b = contact_indicator(nontensile, m.radius[i] - gb, rb, k, eta) > 0;
-      if (on_a != on_b) return true;
-    }
-  }
-  for (std::int32_t c = 0; c < s.pair_count; ++c) {
-    const std::int32_t i = s.pair_i[c], j = s.pair_j[c];
-    auto indicator = [&](ConstColumns<D> x, ConstColumns<D> v) {
-      double dx[D], dist = 0;
-      for (int d = 0; d < D; ++d) {
-        dx[d] = x[d][j] - x[d][i];
-        dist += dx[d] * dx[d];
-      }
-      dist = std::sqrt(dist);
-      double rate = 0;
-      if (dist > 0)
-        for (int d = 0; d < D; ++d) rate -= (v[d][j] - v[d][i]) * dx[d] / dist;
-      return contact_indicator(nontensile, m.radius[i] + m.radius[j] - dist, rate, s.pair_stiffness[c],
-                               s.pair_eta[c]);
-    };
-    if ((indicator(xa, va) > 0) != (indicator(xb, vb) > 0)) return true;
-  }
-  return false;
-}
 
 /// Whether every x[d][i] and v[d][i] is finite.
 template <int D>

@@ -150,6 +150,8 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
     m.state += (9 * spin + angle) * n * real + d * pairs * real + d * planes * n * real;  // ω, its 4-slot ring of ω and α
     m.workspace += (2 * spin + angle) * n * real + (3 * spin + 2 * angle) * n * real;  // trial; RK4 stages, sums
     m.workspace += spin * (n - static_cast<std::uint64_t>(r.split)) * real;  // part 0's cross buffer of α
+    // abm4_events: the start of the remaining interval (a, ω, α, the 2D angle).
+    if (desc.integrator == DemIntegrator::abm4_events) m.workspace += (d + 2 * spin + angle) * n * real;
     m.bytes_per_pair += d * real;
     if (r.broad_phase == BroadPhase::grid) m.workspace += pairs * (2 * index + d * real);
   }
