@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "support/coupled_scenes.hpp"
@@ -122,6 +123,59 @@ TEST(Coupled2d, StepNeverAllocatesAndTwoWorkersGiveTheSameBits) {
     EXPECT_EQ(one.state.plate.u, two.state.plate.u);
     EXPECT_EQ(one.state.plate.v, two.state.plate.v);
   }
+}
+
+// A bed of 140 disks let down 2 µm above the plate's top (two rows, the
+// lower one of 70 lands on the plate): the boundary's contacts run on the
+// DEM's two parts, and the plate's shares are added in disk order on the
+// calling thread, so one and two workers give the same bits, held
+// (symplectic Euler) and hooked (rk4), with friction (the springs kept per
+// disk) and without; the step allocates nothing with the parts.
+TEST(Coupled2d, ABedOnThePlateGivesTheSameBitsOnOneAndTwoWorkers) {
+  for (const DemIntegrator integrator : {DemIntegrator::symplectic_euler, DemIntegrator::rk4})
+    for (const double friction : {0.0, 0.5}) {
+      SCOPED_TRACE(std::string(integrator_name(integrator)) + (friction > 0 ? ", friction" : ", frictionless"));
+      Coupled2dDesc d = xfdem::testing::disk_bed_on_plate(140);
+      d.dem.integrator = integrator;
+      d.dem.friction = friction;
+      d.dem.split_from = 2;  // two parts of disks
+      for (auto& p : d.dem.particles) p.position[1] -= 0.000198;
+      Coupled2dWorld one, two;
+      ASSERT_TRUE(one.build(d).ok());
+      ASSERT_TRUE(two.build(d).ok());
+      ASSERT_EQ(one.model.dem.parts, 2);
+      platform::TwoWorkerPool pool;
+      two.workspace.dem.parallel = pool.parallel_for();
+      int touching = 0;
+      {
+        platform::AllocationCounter counter;
+        for (int step = 0; step < 20; ++step) ASSERT_FALSE(has(one.step(), kStepNotTaken)) << "step " << step;
+        EXPECT_EQ(counter.allocations(), 0u);
+      }
+      for (int step = 0; step < 20; ++step) ASSERT_FALSE(has(two.step(), kStepNotTaken)) << "step " << step;
+      double f[2];
+      for (std::int32_t i = 0; i < one.model.dem.n; ++i)
+        if (coupled2d_boundary_force(one.model, one.state, i, f) && f[1] > 0) ++touching;
+      std::printf("%s, friction %g: %d of 140 disks on the plate after 20 steps\n", integrator_name(integrator),
+                  friction, touching);
+      EXPECT_GE(touching, 60);  // the lower row has landed, in both parts
+      for (std::int32_t i = 0; i < one.model.dem.n; ++i) {
+        for (int axis = 0; axis < 2; ++axis) {
+          ASSERT_EQ(one.state.dem.x[axis][i], two.state.dem.x[axis][i]) << i;
+          ASSERT_EQ(one.state.dem.v[axis][i], two.state.dem.v[axis][i]) << i;
+        }
+        if (friction > 0) {
+          ASSERT_EQ(one.state.dem.w[0][i], two.state.dem.w[0][i]) << i;
+        }
+      }
+      EXPECT_EQ(one.state.springs.xi, two.state.springs.xi);
+      EXPECT_EQ(one.state.plate.u, two.state.plate.u);
+      EXPECT_EQ(one.state.plate.v, two.state.plate.v);
+      EXPECT_EQ(one.state.coupling_force, two.state.coupling_force);
+      EXPECT_EQ(one.state.work_by_particles, two.state.work_by_particles);
+      for (int axis = 0; axis < 2; ++axis)
+        EXPECT_EQ(one.state.impulse_to_plate[axis], two.state.impulse_to_plate[axis]);
+    }
 }
 
 // Every integrator: what the disks took, Σ m Δv (no gravity; the disks'
