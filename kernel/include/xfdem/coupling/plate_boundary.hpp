@@ -49,6 +49,9 @@ struct PlateBoundaryVertex {
   double x[2] = {0, 0};  ///< reference position, m
   PlateMaterialPoint at;
   int prev = -1, next = -1;  ///< the segments ending and starting here (−1: a chain's end)
+  /// A crack's tip, where its two faces meet (in the tip's cell each face
+  /// runs straight from where the crack enters the cell to the tip).
+  bool tip = false;
 };
 
 /// From vertex a to vertex b with the material on the left (outward normal to
