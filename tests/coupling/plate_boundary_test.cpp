@@ -499,3 +499,54 @@ TEST(PlateBoundary, ACracksFacesStopAtItsTipAndTheEdgeBeyondItIsIntact) {
     EXPECT_GT(beyond, 10);
   }
 }
+
+// The same crack opened: Heaviside unknowns and the tip's first branch
+// function (√r sin(θ/2), the one that jumps) along x. Each face moves with
+// its own side's field up to the tip: the two faces' points at one place part
+// by the crack's opening, which plate_crack_opening computes with the jump's
+// sign explicitly (2 N_a a_a and ±2√r N_a b_a), not from a point's side.
+TEST(PlateBoundary, NearATipEachFaceMovesWithItsOwnSide) {
+  constexpr double xc = 1.1, tip_y = 0.85;
+  PlateDesc d = free_plate(8, 4);
+  PlateDiscontinuity q = vertical_crack(xc);
+  q.points = {{xc, -0.2}, {xc, tip_y}};
+  d.discontinuities.push_back(q);
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  std::vector<double> u(static_cast<std::size_t>(b.model.dofs), 0.0);
+  for (int n = 0; n < b.model.nodes; ++n) {
+    for (int s = 0; s < 2; ++s) {
+      if (b.model.node_enrichment[static_cast<std::size_t>(2 * n + s)] < 0) continue;
+      const int dof = b.model.enriched_dof[static_cast<std::size_t>(2 * (2 * n + s))];
+      if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-4;
+    }
+    if (b.model.node_tip[static_cast<std::size_t>(n)] < 0) continue;
+    const int dof = b.model.tip_dof[static_cast<std::size_t>(8 * n)];  // F_1, x
+    if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-4;
+  }
+  PlateState state = b.state;
+  state.u = u;
+  double worst = 0, largest = 0;
+  int points = 0, near_tip = 0;
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    if (v.tip || v.at.side > 0 || !(v.x[1] > 0.0)) continue;  // the − face's points inside the plate
+    PlateMaterialPoint plus = v.at;
+    plus.side = 1;
+    double up[2], um[2];
+    plate_material_point_field(b.model, plus, u.data(), true, up);
+    plate_material_point_field(b.model, v.at, u.data(), true, um);
+    // The opening's normal is left of the polyline's direction (0, 1): (−1, 0).
+    const double opening = plate_crack_opening(b.model, state, 0, v.x[0], v.x[1], 0);
+    worst = std::max(worst, std::fabs(-(up[0] - um[0]) - opening));
+    largest = std::max(largest, std::fabs(opening));
+    ++points;
+    if (v.x[1] > 0.5) ++near_tip;
+  }
+  std::printf("%d face points (%d within two cells of the tip): the faces part by the crack's opening to %.3g m "
+              "(largest opening %.3g m)\n",
+              points, near_tip, worst, largest);
+  EXPECT_GE(near_tip, 2);
+  EXPECT_GT(largest, 1e-5);
+  EXPECT_LT(worst, 1e-15 * largest + 1e-19);
+}
