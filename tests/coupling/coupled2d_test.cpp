@@ -490,6 +490,45 @@ TEST(Coupled2d, ADiskRestingInAVoidCarriesItsWeightThroughTheVoidsBoundary) {
   EXPECT_NEAR(f[0], 0.0, 1e-6 * m * g);
 }
 
+// A crack from the supported base up to a tip 0.15 m under the top, in a
+// cell that reaches the top: a disk resting on the top over the crack's
+// line, beyond the tip, lies on the intact surface: one contact carrying
+// m g at the overlap m g / k. (While the faces ran on past the tip, the top
+// broke there into two lips, each taking half the weight at half the
+// overlap.)
+TEST(Coupled2d, ADiskRestingOverACracksLineBeyondItsTipLiesOnTheIntactSurface) {
+  Coupled2dDesc d;
+  d.plate = plate(2e11, 2, 1, 8, 4);
+  PlateDesc& p = d.plate;
+  p.gamma = 0.6, p.beta = 0.3025;  // numerical damping: the plate's ringing dies out
+  p.supports.push_back({PlateEdge::bottom, {true, true}, false});
+  PlateDiscontinuity crack;
+  crack.name = "crack";
+  crack.kind = PlateDiscontinuity::Kind::crack;
+  crack.shape = PlateDiscontinuity::Shape::polyline;
+  crack.points = {{1.1, -0.2}, {1.1, 0.85}};
+  p.discontinuities.push_back(crack);
+  d.dem.integrator = DemIntegrator::symplectic_euler;
+  d.dem.damping_ratio = 0.5;
+  d.dem.gravity = {0.0, -9.81};
+  const double m = 2.0, g = 9.81, k = 1e6, r = 0.05;
+  d.dem.particles.push_back(disk(m, r, k, 1.1, 1.0 + r - 0.5 * m * g / k, 0.0, 0.0));
+  d.dem_substeps = 10;
+  Coupled2dWorld w;
+  const BuildResult built = w.build(d);
+  ASSERT_TRUE(built.ok()) << built.message;
+  ASSERT_EQ(w.model.plate.tips.size(), 1u);
+  for (int step = 0; step < 3000; ++step) ASSERT_EQ(w.step(), StepStatus::ok) << step;
+  double f[2];
+  ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, 0, f));
+  std::printf("disk over the crack's line beyond its tip after 0.3 s: y - (top + r - m g/k) = %.3g m (m g/k = %.3g m), "
+              "F_y - m g = %.3g N of %.4g N, F_x = %.3g N\n",
+              w.state.dem.x[1][0] - (1.0 + r - m * g / k), m * g / k, f[1] - m * g, m * g, f[0]);
+  EXPECT_NEAR(w.state.dem.x[1][0], 1.0 + r - m * g / k, 1e-7);
+  EXPECT_NEAR(f[1], m * g, 1e-6 * m * g);
+  EXPECT_NEAR(f[0], 0.0, 1e-6 * m * g);
+}
+
 namespace {
 
 /// A disk (1 kg, r = 0.05 m, k = 1e6 N/m) on a plate 1 m × 0.25 m (4 × 1
