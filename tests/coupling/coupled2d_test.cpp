@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "support/coupled_scenes.hpp"
@@ -122,6 +123,59 @@ TEST(Coupled2d, StepNeverAllocatesAndTwoWorkersGiveTheSameBits) {
     EXPECT_EQ(one.state.plate.u, two.state.plate.u);
     EXPECT_EQ(one.state.plate.v, two.state.plate.v);
   }
+}
+
+// A bed of 140 disks let down 2 µm above the plate's top (two rows, the
+// lower one of 70 lands on the plate): the boundary's contacts run on the
+// DEM's two parts, and the plate's shares are added in disk order on the
+// calling thread, so one and two workers give the same bits, held
+// (symplectic Euler) and hooked (rk4), with friction (the springs kept per
+// disk) and without; the step allocates nothing with the parts.
+TEST(Coupled2d, ABedOnThePlateGivesTheSameBitsOnOneAndTwoWorkers) {
+  for (const DemIntegrator integrator : {DemIntegrator::symplectic_euler, DemIntegrator::rk4})
+    for (const double friction : {0.0, 0.5}) {
+      SCOPED_TRACE(std::string(integrator_name(integrator)) + (friction > 0 ? ", friction" : ", frictionless"));
+      Coupled2dDesc d = xfdem::testing::disk_bed_on_plate(140);
+      d.dem.integrator = integrator;
+      d.dem.friction = friction;
+      d.dem.split_from = 2;  // two parts of disks
+      for (auto& p : d.dem.particles) p.position[1] -= 0.000198;
+      Coupled2dWorld one, two;
+      ASSERT_TRUE(one.build(d).ok());
+      ASSERT_TRUE(two.build(d).ok());
+      ASSERT_EQ(one.model.dem.parts, 2);
+      platform::TwoWorkerPool pool;
+      two.workspace.dem.parallel = pool.parallel_for();
+      int touching = 0;
+      {
+        platform::AllocationCounter counter;
+        for (int step = 0; step < 20; ++step) ASSERT_FALSE(has(one.step(), kStepNotTaken)) << "step " << step;
+        EXPECT_EQ(counter.allocations(), 0u);
+      }
+      for (int step = 0; step < 20; ++step) ASSERT_FALSE(has(two.step(), kStepNotTaken)) << "step " << step;
+      double f[2];
+      for (std::int32_t i = 0; i < one.model.dem.n; ++i)
+        if (coupled2d_boundary_force(one.model, one.state, i, f) && f[1] > 0) ++touching;
+      std::printf("%s, friction %g: %d of 140 disks on the plate after 20 steps\n", integrator_name(integrator),
+                  friction, touching);
+      EXPECT_GE(touching, 60);  // the lower row has landed, in both parts
+      for (std::int32_t i = 0; i < one.model.dem.n; ++i) {
+        for (int axis = 0; axis < 2; ++axis) {
+          ASSERT_EQ(one.state.dem.x[axis][i], two.state.dem.x[axis][i]) << i;
+          ASSERT_EQ(one.state.dem.v[axis][i], two.state.dem.v[axis][i]) << i;
+        }
+        if (friction > 0) {
+          ASSERT_EQ(one.state.dem.w[0][i], two.state.dem.w[0][i]) << i;
+        }
+      }
+      EXPECT_EQ(one.state.springs.xi, two.state.springs.xi);
+      EXPECT_EQ(one.state.plate.u, two.state.plate.u);
+      EXPECT_EQ(one.state.plate.v, two.state.plate.v);
+      EXPECT_EQ(one.state.coupling_force, two.state.coupling_force);
+      EXPECT_EQ(one.state.work_by_particles, two.state.work_by_particles);
+      for (int axis = 0; axis < 2; ++axis)
+        EXPECT_EQ(one.state.impulse_to_plate[axis], two.state.impulse_to_plate[axis]);
+    }
 }
 
 // Every integrator: what the disks took, Σ m Δv (no gravity; the disks'
@@ -549,6 +603,45 @@ TEST(Coupled2d, ADiskCentredOverANodeRestsThereAndLoadsThePlateAsAPointForce) {
     EXPECT_NEAR(f[0], 0.0, 1e-6 * m * g);
     EXPECT_LT(worst, 1e-4 * scale);
   }
+}
+
+// A crack from the supported base up to a tip 0.15 m under the top, in a
+// cell that reaches the top: a disk resting on the top over the crack's
+// line, beyond the tip, lies on the intact surface: one contact carrying
+// m g at the overlap m g / k. (While the faces ran on past the tip, the top
+// broke there into two lips, each taking half the weight at half the
+// overlap.)
+TEST(Coupled2d, ADiskRestingOverACracksLineBeyondItsTipLiesOnTheIntactSurface) {
+  Coupled2dDesc d;
+  d.plate = plate(2e11, 2, 1, 8, 4);
+  PlateDesc& p = d.plate;
+  p.gamma = 0.6, p.beta = 0.3025;  // numerical damping: the plate's ringing dies out
+  p.supports.push_back({PlateEdge::bottom, {true, true}, false});
+  PlateDiscontinuity crack;
+  crack.name = "crack";
+  crack.kind = PlateDiscontinuity::Kind::crack;
+  crack.shape = PlateDiscontinuity::Shape::polyline;
+  crack.points = {{1.1, -0.2}, {1.1, 0.85}};
+  p.discontinuities.push_back(crack);
+  d.dem.integrator = DemIntegrator::symplectic_euler;
+  d.dem.damping_ratio = 0.5;
+  d.dem.gravity = {0.0, -9.81};
+  const double m = 2.0, g = 9.81, k = 1e6, r = 0.05;
+  d.dem.particles.push_back(disk(m, r, k, 1.1, 1.0 + r - 0.5 * m * g / k, 0.0, 0.0));
+  d.dem_substeps = 10;
+  Coupled2dWorld w;
+  const BuildResult built = w.build(d);
+  ASSERT_TRUE(built.ok()) << built.message;
+  ASSERT_EQ(w.model.plate.tips.size(), 1u);
+  for (int step = 0; step < 3000; ++step) ASSERT_EQ(w.step(), StepStatus::ok) << step;
+  double f[2];
+  ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, 0, f));
+  std::printf("disk over the crack's line beyond its tip after 0.3 s: y - (top + r - m g/k) = %.3g m (m g/k = %.3g m), "
+              "F_y - m g = %.3g N of %.4g N, F_x = %.3g N\n",
+              w.state.dem.x[1][0] - (1.0 + r - m * g / k), m * g / k, f[1] - m * g, m * g, f[0]);
+  EXPECT_NEAR(w.state.dem.x[1][0], 1.0 + r - m * g / k, 1e-7);
+  EXPECT_NEAR(f[1], m * g, 1e-6 * m * g);
+  EXPECT_NEAR(f[0], 0.0, 1e-6 * m * g);
 }
 
 namespace {

@@ -464,3 +464,143 @@ TEST(PlateBoundary, ADiskOverACracksMouthTouchesBothLipsContinuously) {
   EXPECT_GT(both, 0);
   EXPECT_LT(worst, 1.5 * dx);
 }
+
+// A crack from the bottom edge up to a tip 0.15 m below the top (cells of
+// 0.25 m: the tip's cell reaches the top edge). The plate integrates the tip's
+// cell fanned from the tip, the crack straight from where it enters the cell
+// to the tip; the boundary's faces are the same line and stop at the tip,
+// where they meet: one closed loop (the outer edges, broken at the bottom
+// mouth, and the two faces), the top edge intact over the crack's line.
+TEST(PlateBoundary, ACracksFacesStopAtItsTipAndTheEdgeBeyondItIsIntact) {
+  constexpr double xc = 1.1, tip_y = 0.85;
+  PlateDesc d = free_plate(8, 4);
+  PlateDiscontinuity q = vertical_crack(xc);
+  q.points = {{xc, -0.2}, {xc, tip_y}};
+  d.discontinuities.push_back(q);
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  ASSERT_EQ(b.model.tips.size(), 1u);
+  EXPECT_EQ(pb.vertices.size(), pb.segments.size());  // every chain closed
+  const std::vector<double> areas = loop_areas(pb);
+  ASSERT_EQ(areas.size(), 1u);
+  std::printf("one loop, area %.17g (the plate's 2; the faces enclose none)\n", areas[0]);
+  EXPECT_NEAR(areas[0], 2.0, 1e-14);
+  int tips = 0;
+  double highest_face = 0;
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    if (v.tip) {
+      ++tips;
+      EXPECT_NEAR(v.x[0], xc, 1e-15);
+      EXPECT_NEAR(v.x[1], tip_y, 1e-15);
+    }
+    // On the crack's line inside the plate: a face's vertex, never past the tip.
+    if (std::fabs(v.x[0] - xc) < 1e-12 && v.x[1] > 0.0) highest_face = std::max(highest_face, v.x[1]);
+  }
+  EXPECT_EQ(tips, 1);
+  EXPECT_NEAR(highest_face, tip_y, 1e-15);
+
+  PlateBoundaryContact c[kPlateBoundaryMaxContacts];
+  // A disk pressed on the top edge over the crack's line (0.15 m beyond the
+  // tip, more than its radius): the intact surface, one contact, as it slides
+  // across. Before the faces stopped at the tip, the edge broke there into two
+  // lips and a disk over it touched both.
+  const double r = 0.05, gap = 0.04;
+  double worst = 0;
+  int samples = 0;
+  for (double x = 0.95; x <= 1.25; x += 0.001, ++samples) {
+    const double centre[2] = {x, 1.0 + gap};
+    const int n = plate_boundary_contacts(pb, b.positions.data(), centre, r, c);
+    ASSERT_EQ(n, 1) << "x = " << x;
+    EXPECT_NEAR(c[0].normal[1], 1.0, 1e-15);
+    worst = std::max(worst, std::fabs(c[0].overlap - (r - gap)));
+  }
+  std::printf("top edge over the tip: %d samples, one contact each, overlap within %.3g m of %.3g m\n", samples, worst,
+              r - gap);
+  EXPECT_LT(worst, 1e-15);
+
+  // A disk beside a face near the tip (its centre 0.03 m off the crack's
+  // line, on either face's outer side), moved along it past the tip: the face
+  // while its centre is beside it, then the tip's vertex: one contact, the
+  // overlap r minus the distance to the face's segment (from where the crack
+  // enters the tip's cell, y = 0.75, to the tip), continuous past the tip.
+  const double entry[2] = {xc, 0.75}, tip[2] = {xc, tip_y};
+  for (const double side : {1.0, -1.0}) {
+    double err = 0, jump = 0, last = -1;
+    int beyond = 0;
+    for (double y = 0.76; y <= 0.94; y += 0.0005) {
+      const double centre[2] = {xc + side * 0.03, y};
+      const int n = plate_boundary_contacts(pb, b.positions.data(), centre, r, c);
+      const double expected = std::max(0.0, r - segment_distance(centre, entry, tip));
+      const double overlap = n > 0 ? c[0].overlap : 0.0;
+      ASSERT_LE(n, 1) << "y = " << y;
+      if (n == 1 && y < tip_y) {
+        EXPECT_NEAR(c[0].normal[0], side, 1e-15);
+      }
+      if (n == 1 && y > tip_y) {
+        ++beyond;
+        EXPECT_TRUE(c[0].vertex >= 0 && pb.vertices[static_cast<std::size_t>(c[0].vertex)].tip);
+      }
+      err = std::max(err, std::fabs(overlap - expected));
+      if (last >= 0) jump = std::max(jump, std::fabs(overlap - last));
+      last = overlap;
+    }
+    std::printf("beside the %s face: overlap within %.3g m of r - distance to [entry, tip], largest change %.3g m "
+                "per 0.5 mm step, %d samples on the tip past it\n",
+                side > 0 ? "right" : "left", err, jump, beyond);
+    EXPECT_LT(err, 1e-15);
+    EXPECT_LE(jump, 0.0005 + 1e-15);  // continuous: by at most the step
+    EXPECT_GT(beyond, 10);
+  }
+}
+
+// The same crack opened: Heaviside unknowns and the tip's first branch
+// function (√r sin(θ/2), the one that jumps) along x. Each face moves with
+// its own side's field up to the tip: the two faces' points at one place part
+// by the crack's opening, which plate_crack_opening computes with the jump's
+// sign explicitly (2 N_a a_a and ±2√r N_a b_a), not from a point's side.
+TEST(PlateBoundary, NearATipEachFaceMovesWithItsOwnSide) {
+  constexpr double xc = 1.1, tip_y = 0.85;
+  PlateDesc d = free_plate(8, 4);
+  PlateDiscontinuity q = vertical_crack(xc);
+  q.points = {{xc, -0.2}, {xc, tip_y}};
+  d.discontinuities.push_back(q);
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  std::vector<double> u(static_cast<std::size_t>(b.model.dofs), 0.0);
+  for (int n = 0; n < b.model.nodes; ++n) {
+    for (int s = 0; s < 2; ++s) {
+      if (b.model.node_enrichment[static_cast<std::size_t>(2 * n + s)] < 0) continue;
+      const int dof = b.model.enriched_dof[static_cast<std::size_t>(2 * (2 * n + s))];
+      if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-4;
+    }
+    if (b.model.node_tip[static_cast<std::size_t>(n)] < 0) continue;
+    const int dof = b.model.tip_dof[static_cast<std::size_t>(8 * n)];  // F_1, x
+    if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-4;
+  }
+  PlateState state = b.state;
+  state.u = u;
+  double worst = 0, largest = 0;
+  int points = 0, near_tip = 0;
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    if (v.tip || v.at.side > 0 || !(v.x[1] > 0.0)) continue;  // the − face's points inside the plate
+    PlateMaterialPoint plus = v.at;
+    plus.side = 1;
+    double up[2], um[2];
+    plate_material_point_field(b.model, plus, u.data(), true, up);
+    plate_material_point_field(b.model, v.at, u.data(), true, um);
+    // The opening's normal is left of the polyline's direction (0, 1): (−1, 0).
+    const double opening = plate_crack_opening(b.model, state, 0, v.x[0], v.x[1], 0);
+    worst = std::max(worst, std::fabs(-(up[0] - um[0]) - opening));
+    largest = std::max(largest, std::fabs(opening));
+    ++points;
+    if (v.x[1] > 0.5) ++near_tip;
+  }
+  std::printf("%d face points (%d within two cells of the tip): the faces part by the crack's opening to %.3g m "
+              "(largest opening %.3g m)\n",
+              points, near_tip, worst, largest);
+  EXPECT_GE(near_tip, 2);
+  EXPECT_GT(largest, 1e-5);
+  EXPECT_LT(worst, 1e-15 * largest + 1e-19);
+}

@@ -226,6 +226,28 @@ struct Coupled2dWorkspace {
     double taken[2] = {0, 0}, work = 0, scale = 0;
   };
   Pass kept[2];
+  /// The disks' contacts with the boundary run on the DEM's parts (DemModel::
+  /// parts: disks [0, split) and [split, n), fixed at build): each part finds
+  /// its disks' contacts and forces, writes each disk's own force, and lists
+  /// the plate's share of each contact in its own stretch of `shares` (part
+  /// p's from slot begin·kPlateBoundaryMaxContacts on, `share_count[p]` of
+  /// them). The calling thread then spreads the lists onto the plate's
+  /// unknowns, part 0's then part 1's: disk by disk, contact by contact, the
+  /// order of one part's loop, so the sums are the same bits on one and two
+  /// workers (and with or without the split).
+  struct PlateShare {
+    PlateMaterialPoint at[2];         ///< where the force acts (plate_boundary_material_points)
+    double at_share[2] = {1.0, 0.0};  ///< the force's share at each (a blended contact has two)
+    int points = 1;
+    double force[2] = {0, 0};  ///< on the plate, × the evaluation's weight
+    double work = 0;           ///< weight × F·V, taken from the book
+    int couple_segment = -1;   ///< a rolling couple's segment (−1: none)
+    double couple = 0, couple_work = 0;
+  };
+  std::vector<PlateShare> shares;
+  std::int32_t share_count[2] = {0, 0};
+  /// Contacts of each disk that carried a force at the last evaluation.
+  std::vector<std::int32_t> carried;
   /// What the DEM's external contact hook reads (set by each step; the
   /// workspace is its context).
   const Coupled2dModel* stage_model = nullptr;

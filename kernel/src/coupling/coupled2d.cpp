@@ -55,17 +55,19 @@ double contact_force(const DemModel<2>& dem, std::int32_t i, const PlateBoundary
                                   rate);
 }
 
+using Share = Coupled2dWorkspace::PlateShare;
+
 /// The contacts of disk i (centre, velocity v) with the boundary at
 /// `positions` (moving at the window's velocity): adds their force on the
-/// disk to total[2], each contact's −scale·F spread at its material point to
-/// the plate's unknowns in `plate`, and −scale·F·V (V the contact point's
-/// velocity) to `work`. Returns the number of contacts that carried a force.
-/// The frictionless disk–boundary contact (the plane's normal law), for the
-/// held substeps and the hooked stages alike; rotating disks take the wall
-/// contact in rotating_contacts.
+/// disk to total[2] and lists at `shares` (advanced past them) each
+/// contact's −scale·F at its material point and scale·F·V (V the contact
+/// point's velocity), for spread_shares. Returns the number of contacts that
+/// carried a force. The frictionless disk–boundary contact (the plane's
+/// normal law), for the held substeps and the hooked stages alike; rotating
+/// disks take the wall contact in rotating_contacts.
 int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w, const double* positions,
                             std::int32_t i, const double centre[2], const double v[2], double scale, double total[2],
-                            double* plate, double& work) {
+                            Share*& shares) {
   PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
   const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[static_cast<std::size_t>(i)],
                                             contacts);
@@ -78,12 +80,69 @@ int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w
     ++carried;
     const double on_disk[2] = {fn * contacts[c].normal[0], fn * contacts[c].normal[1]};
     total[0] += on_disk[0], total[1] += on_disk[1];
-    work -= scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
     // The plate gets the opposite, at the contact's material point.
-    const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
-    plate_boundary_spread_force(m.plate, m.boundary, contacts[c], on_plate, plate);
+    Share& share = *shares++;
+    share.points = plate_boundary_material_points(m.boundary, contacts[c], share.at, share.at_share);
+    share.force[0] = -scale * on_disk[0], share.force[1] = -scale * on_disk[1];
+    share.work = scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
+    share.couple_segment = -1;
   }
   return carried;
+}
+
+/// Adds a couple C (N·m·s here: an impulse's moment) to the plate as two
+/// opposite forces at the segment's ends, ±C (ẑ × L)/|L|² with L its
+/// reference direction: no net force, moment C for every rigid motion.
+void spread_couple(const PlateModel& plate, const PlateBoundary& b, int segment, double couple, double* f) {
+  const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(segment)];
+  const PlateBoundaryVertex& va = b.vertices[static_cast<std::size_t>(seg.a)];
+  const PlateBoundaryVertex& vb = b.vertices[static_cast<std::size_t>(seg.b)];
+  const double l[2] = {vb.x[0] - va.x[0], vb.x[1] - va.x[1]};
+  const double scale = couple / (l[0] * l[0] + l[1] * l[1]);
+  const double at_b[2] = {-scale * l[1], scale * l[0]}, at_a[2] = {-at_b[0], -at_b[1]};
+  plate_spread_force(plate, vb.at, at_b, f);
+  plate_spread_force(plate, va.at, at_a, f);
+}
+
+constexpr int kShareSlots = kPlateBoundaryMaxContacts;  // per disk: as many as its contacts
+
+/// Runs f(part, begin, end, shares) over the DEM's parts of the disks
+/// (through the DEM's ParallelFor), shares the part's own list, and counts
+/// what each part listed.
+template <class F>
+void over_disk_parts(const Coupled2dModel& m, Coupled2dWorkspace& w, F&& f) {
+  const int parts = m.dem.parts > 1 ? 2 : 1;
+  for_parts(w.dem.parallel, parts, [&](int part) {
+    const std::int32_t begin = part == 0 ? 0 : m.dem.split, end = parts == 2 && part == 0 ? m.dem.split : m.dem.n;
+    Share* const first = w.shares.data() + static_cast<std::size_t>(begin) * kShareSlots;
+    Share* shares = first;
+    f(part, begin, end, shares);
+    w.share_count[part] = static_cast<std::int32_t>(shares - first);
+  });
+  if (parts == 1) w.share_count[1] = 0;
+}
+
+/// The parts' lists onto the plate's unknowns `plate` and the book `work`,
+/// part 0's then part 1's: disk order, whatever ran them.
+void spread_shares(const Coupled2dModel& m, const Coupled2dWorkspace& w, double* plate, double& work) {
+  for (int part = 0; part < 2; ++part) {
+    const std::int32_t begin = part == 0 ? 0 : m.dem.split;
+    const Share* share = w.shares.data() + static_cast<std::size_t>(begin) * kShareSlots;
+    for (std::int32_t k = 0; k < w.share_count[part]; ++k, ++share) {
+      work -= share->work;
+      if (share->points == 1) {
+        plate_spread_force(m.plate, share->at[0], share->force, plate);
+      } else {  // a blended contact: the force shared by its two points
+        for (int q = 0; q < share->points; ++q) {
+          const double piece[2] = {share->at_share[q] * share->force[0], share->at_share[q] * share->force[1]};
+          plate_spread_force(m.plate, share->at[q], piece, plate);
+        }
+      }
+      if (share->couple_segment < 0) continue;
+      work += share->couple_work;
+      spread_couple(m.plate, m.boundary, share->couple_segment, share->couple, plate);
+    }
+  }
 }
 
 /// The totals the DEM weighs for the hooked integrators (DemDesc::
@@ -110,25 +169,33 @@ std::uint64_t boundary_stage(void* context, double time, ConstColumns<2> x, Cons
   std::fill(totals, totals + dofs + kHookExtras, 0.0);
   boundary_at(w, (time - w.dem_start.time) / m.dt, w.positions.data());
   double* extra = totals + dofs;
-  std::uint64_t tags = 0;
+  std::uint64_t tags[2] = {0, 0};  // sums of integers: the same total in any order
+  over_disk_parts(m, w, [&](int part, std::int32_t begin, std::int32_t end, Share*& shares) {
+    for (std::int32_t i = begin; i < end; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      const double centre[2] = {x[0][iu], x[1][iu]};
+      const double velocity[2] = {v[0][iu], v[1][iu]};
+      double total[2] = {0, 0};
+      const int carried = boundary_contact_forces(m, w, w.positions.data(), i, centre, velocity, 1.0, total, shares);
+      s.boundary_force[0][iu] = total[0];
+      s.boundary_force[1][iu] = total[1];
+      w.carried[iu] = carried;
+      if (carried == 0) continue;
+      a[0][iu] += total[0] * m.dem.inv_mass[iu];
+      a[1][iu] += total[1] * m.dem.inv_mass[iu];
+      tags[part] += (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull;
+    }
+  });
+  // The totals in disk order, on the calling thread.
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
-    const double centre[2] = {x[0][iu], x[1][iu]};
-    const double velocity[2] = {v[0][iu], v[1][iu]};
-    double total[2] = {0, 0};
-    const int carried =
-        boundary_contact_forces(m, w, w.positions.data(), i, centre, velocity, 1.0, total, totals, extra[kWork]);
-    s.boundary_force[0][iu] = total[0];
-    s.boundary_force[1][iu] = total[1];
-    if (carried == 0) continue;
-    a[0][iu] += total[0] * m.dem.inv_mass[iu];
-    a[1][iu] += total[1] * m.dem.inv_mass[iu];
-    extra[kForceX] += total[0];
-    extra[kForceY] += total[1];
-    extra[kContacts] += carried;
-    tags += (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull;
+    if (w.carried[iu] == 0) continue;
+    extra[kForceX] += s.boundary_force[0][iu];
+    extra[kForceY] += s.boundary_force[1][iu];
+    extra[kContacts] += w.carried[iu];
   }
-  return tags;
+  spread_shares(m, w, totals, extra[kWork]);
+  return tags[0] + tags[1];
 }
 
 double norm(const std::vector<double>& x) {
@@ -163,20 +230,6 @@ double segment_spin(const PlateBoundary& b, const Coupled2dWorkspace& w, int seg
   return (l[0] * d[1] - l[1] * d[0]) / (l[0] * l[0] + l[1] * l[1]) / dt;
 }
 
-/// Adds a couple C (N·m·s here: an impulse's moment) to the plate as two
-/// opposite forces at the segment's ends, ±C (ẑ × L)/|L|² with L its
-/// reference direction: no net force, moment C for every rigid motion.
-void spread_couple(const PlateModel& plate, const PlateBoundary& b, int segment, double couple, double* f) {
-  const PlateBoundarySegment& seg = b.segments[static_cast<std::size_t>(segment)];
-  const PlateBoundaryVertex& va = b.vertices[static_cast<std::size_t>(seg.a)];
-  const PlateBoundaryVertex& vb = b.vertices[static_cast<std::size_t>(seg.b)];
-  const double l[2] = {vb.x[0] - va.x[0], vb.x[1] - va.x[1]};
-  const double scale = couple / (l[0] * l[0] + l[1] * l[1]);
-  const double at_b[2] = {-scale * l[1], scale * l[0]}, at_a[2] = {-at_b[0], -at_b[1]};
-  plate_spread_force(plate, vb.at, at_b, f);
-  plate_spread_force(plate, va.at, at_a, f);
-}
-
 /// The hertz compliances (1 − ν²)/E and 2(2 − ν)(1 + ν)/E of the material
 /// the boundary's segment bounds (the plate's, or an inclusion's where the
 /// segment lies in it); 0 for the other laws.
@@ -194,13 +247,13 @@ void segment_compliance(const Coupled2dModel& m, int segment, double& inv_e, dou
 /// particle–wall contact, its spring (from s.springs, matched by chain and
 /// normal) advanced by `advance`, the springs kept in s.springs when `keep`
 /// (false: a stage that only reads them). Adds the boundary's force on the
-/// disk to total[2] and its torque to `torque`; each contact's plate share
-/// −scale·F at its material point (and of its rolling couple) to `plate`,
-/// its −scale·F·V (and the couple's work) to `work`. Returns the number of
-/// contacts that carried a normal force.
+/// disk to total[2] and its torque to `torque`; lists at `shares` (advanced
+/// past them) each contact's plate share −scale·F at its material point, its
+/// scale·F·V, and its rolling couple and the couple's work, for
+/// spread_shares. Returns the number of contacts that carried a normal force.
 int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2dWorkspace& w, std::int32_t i,
                       const double* positions, const double centre[2], const double (&v)[2], double wi, double advance,
-                      bool keep, double scale, double* plate, double total[2], double& torque, double& work) {
+                      bool keep, double scale, Share*& shares, double total[2], double& torque) {
   const auto iu = static_cast<std::size_t>(i);
   PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
   const int count = plate_boundary_contacts(m.boundary, positions, centre, m.dem.radius[iu], contacts);
@@ -249,12 +302,15 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     const double on_disk[2] = {r.fn * r.normal[0] + r.ft[0], r.fn * r.normal[1] + r.ft[1]};
     total[0] += on_disk[0], total[1] += on_disk[1];
     torque += r.torque_j[0];
-    work -= scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
-    const double on_plate[2] = {-scale * on_disk[0], -scale * on_disk[1]};
-    plate_boundary_spread_force(m.plate, m.boundary, ct, on_plate, plate);
+    Share& share = *shares++;
+    share.points = plate_boundary_material_points(m.boundary, ct, share.at, share.at_share);
+    share.force[0] = -scale * on_disk[0], share.force[1] = -scale * on_disk[1];
+    share.work = scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
+    share.couple_segment = -1;
     if (r.torque_i[0] != 0.0) {
-      work += scale * r.torque_i[0] * spin;
-      spread_couple(m.plate, m.boundary, ct.segment, scale * r.torque_i[0], plate);
+      share.couple_segment = ct.segment;
+      share.couple = scale * r.torque_i[0];
+      share.couple_work = scale * r.torque_i[0] * spin;
     }
   }
   if (!keep) return carried;
@@ -273,22 +329,21 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
 /// The boundary's force (x, y; N) and torque (N·m) on disk i at the disks'
 /// state in s.dem, the boundary at `positions` (2 per vertex) moving at the
 /// window's velocities, held over a substep h (symplectic Euler): each
-/// contact's plate share of h·F (and of its rolling couple) is added to
-/// w.impulse, the disk's work on the boundary over h to `work`. Rotating
-/// disks: each contact's spring advanced by h and kept (rotating_contacts).
-void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w, std::int32_t i,
-                   const double* positions, double h, double total[2], double& torque, double& work) {
+/// contact's plate share of h·F (and of its rolling couple) and the disk's
+/// work on the boundary over h are listed at `shares`. Rotating disks: each
+/// contact's spring advanced by h and kept (rotating_contacts).
+void disk_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2dWorkspace& w, std::int32_t i,
+                   const double* positions, double h, double total[2], double& torque, Share*& shares) {
   const auto iu = static_cast<std::size_t>(i);
   const double centre[2] = {s.dem.x[0][iu], s.dem.x[1][iu]};
   const double v[2] = {s.dem.v[0][iu], s.dem.v[1][iu]};
   total[0] = total[1] = 0.0;
   torque = 0.0;
   if (!m.rotating) {
-    boundary_contact_forces(m, w, positions, i, centre, v, h, total, w.impulse.data(), work);
+    boundary_contact_forces(m, w, positions, i, centre, v, h, total, shares);
     return;
   }
-  rotating_contacts(m, s, w, i, positions, centre, v, s.dem.w[0][iu], h, true, h, w.impulse.data(), total, torque,
-                    work);
+  rotating_contacts(m, s, w, i, positions, centre, v, s.dem.w[0][iu], h, true, h, shares, total, torque);
 }
 
 /// The rotating DEM's external contact hook (DemDesc::external_contacts, the
@@ -305,25 +360,32 @@ std::uint64_t boundary_rotating_stage(void* context, const ExternalStage<2>& at,
   std::fill(totals, totals + dofs + kHookExtras, 0.0);
   boundary_at(w, (at.time - w.dem_start.time) / m.dt, w.positions.data());
   double* extra = totals + dofs;
-  std::uint64_t tags = 0;
+  std::uint64_t tags[2] = {0, 0};
+  over_disk_parts(m, w, [&](int part, std::int32_t begin, std::int32_t end, Share*& shares) {
+    for (std::int32_t i = begin; i < end; ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      const double centre[2] = {at.x[0][iu], at.x[1][iu]};
+      const double velocity[2] = {at.v[0][iu], at.v[1][iu]};
+      double total[2] = {0, 0}, torque = 0;
+      const int carried = rotating_contacts(m, s, w, i, w.positions.data(), centre, velocity, at.spin[0][iu],
+                                            at.advance, at.keep, 1.0, shares, total, torque);
+      s.boundary_force[0][iu] = total[0];
+      s.boundary_force[1][iu] = total[1];
+      w.carried[iu] = carried;
+      at.a[0][iu] += total[0] * m.dem.inv_mass[iu];
+      at.a[1][iu] += total[1] * m.dem.inv_mass[iu];
+      at.alpha[0][iu] += torque * m.dem.inv_inertia[iu];
+      tags[part] += carried > 0 ? (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull : 0;
+    }
+  });
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
-    const double centre[2] = {at.x[0][iu], at.x[1][iu]};
-    const double velocity[2] = {at.v[0][iu], at.v[1][iu]};
-    double total[2] = {0, 0}, torque = 0;
-    const int carried = rotating_contacts(m, s, w, i, w.positions.data(), centre, velocity, at.spin[0][iu], at.advance,
-                                          at.keep, 1.0, totals, total, torque, extra[kWork]);
-    s.boundary_force[0][iu] = total[0];
-    s.boundary_force[1][iu] = total[1];
-    at.a[0][iu] += total[0] * m.dem.inv_mass[iu];
-    at.a[1][iu] += total[1] * m.dem.inv_mass[iu];
-    at.alpha[0][iu] += torque * m.dem.inv_inertia[iu];
-    extra[kForceX] += total[0];
-    extra[kForceY] += total[1];
-    extra[kContacts] += carried;
-    tags += carried > 0 ? (static_cast<std::uint64_t>(i) + 1) * 0xD6E8FEB86659FD93ull : 0;
+    extra[kForceX] += s.boundary_force[0][iu];
+    extra[kForceY] += s.boundary_force[1][iu];
+    extra[kContacts] += w.carried[iu];
   }
-  return tags;
+  spread_shares(m, w, totals, extra[kWork]);
+  return tags[0] + tags[1];
 }
 
 /// One pass over the window with the plate's force `force`: the plate
@@ -360,16 +422,22 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
   }
   for (int k = 0; k < n; ++k) {
     boundary_at(w, static_cast<double>(k) / n, w.positions.data());
+    over_disk_parts(m, w, [&](int, std::int32_t begin, std::int32_t end, Share*& shares) {
+      for (std::int32_t i = begin; i < end; ++i) {
+        const auto iu = static_cast<std::size_t>(i);
+        double total[2], torque;
+        disk_contacts(m, s, w, i, w.positions.data(), h, total, torque, shares);
+        s.dem.external_force[0][iu] = total[0];
+        s.dem.external_force[1][iu] = total[1];
+        if (m.rotating) s.dem.external_torque[0][iu] = torque;
+      }
+    });
+    // The sums in disk order, on the calling thread.
     for (std::int32_t i = 0; i < m.dem.n; ++i) {
-      const auto iu = static_cast<std::size_t>(i);
-      double total[2], torque;
-      disk_contacts(m, s, w, i, w.positions.data(), h, total, torque, work);
-      s.dem.external_force[0][iu] = total[0];
-      s.dem.external_force[1][iu] = total[1];
-      if (m.rotating) s.dem.external_torque[0][iu] = torque;
-      impulse_taken[0] += h * total[0];
-      impulse_taken[1] += h * total[1];
+      impulse_taken[0] += h * s.dem.external_force[0][static_cast<std::size_t>(i)];
+      impulse_taken[1] += h * s.dem.external_force[1][static_cast<std::size_t>(i)];
     }
+    spread_shares(m, w, w.impulse.data(), work);
     dem_inputs_changed(s.dem);
     status |= without(dem_step(m.dem, s.dem, w.dem), StepStatus::energy_growth);
   }
@@ -643,6 +711,8 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     s.springs.xi.assign(2 * slots, 0.0);
     w.springs_start = s.springs;
   }
+  w.shares.assign(static_cast<std::size_t>(m.dem.n) * kShareSlots, Coupled2dWorkspace::PlateShare{});
+  w.carried.assign(static_cast<std::size_t>(m.dem.n), 0);
   w.start_positions.assign(coords, 0.0);
   w.end_positions.assign(coords, 0.0);
   w.positions.assign(coords, 0.0);

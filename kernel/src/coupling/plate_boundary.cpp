@@ -39,6 +39,28 @@ void crossing(double p0, double p1, double xi0, double eta0, double xi1, double 
 /// vertex every segment through it shares.
 using EdgeKey = std::tuple<int, int, int, int>;  // (0, node, node, side) or (1, cell, corner, side)
 
+/// The tip of crack `cut` that cell `cell` holds, or nullptr.
+const PlateModel::Tip* tip_of_cell(const PlateModel& m, int cell, int cut) {
+  if (m.cell_tip.empty()) return nullptr;
+  const int t = m.cell_tip[static_cast<std::size_t>(cell)];
+  if (t < 0 || m.tips[static_cast<std::size_t>(t)].crack != cut) return nullptr;
+  return &m.tips[static_cast<std::size_t>(t)];
+}
+
+/// Parent point (xi, eta) of cell (i, j) in physical coordinates.
+void physical_point(const PlateModel& m, int i, int j, double xi, double eta, double x[2]) {
+  x[0] = m.desc.min[0] + m.cell_size[0] * (i + 0.5 * (1.0 + xi));
+  x[1] = m.desc.min[1] + m.cell_size[1] * (j + 0.5 * (1.0 + eta));
+}
+
+/// Whether parent point (xi, eta) of cell (i, j) lies ahead of the tip: its
+/// tangential level set (the distance along the tip's direction) positive.
+bool ahead_of_tip(const PlateModel& m, const PlateModel::Tip& t, int i, int j, double xi, double eta) {
+  double x[2];
+  physical_point(m, i, j, xi, eta, x);
+  return (x[0] - t.origin[0]) * t.cos_a + (x[1] - t.origin[1]) * t.sin_a > 0.0;
+}
+
 /// Appends the outer boundary's segments: edge() takes the cell edge from
 /// local corner `from` to corner `to` of cell (i, j), walked with the material
 /// on its left (one segment, or two where a discontinuity crosses it).
@@ -52,9 +74,7 @@ struct Walker {
 
   int add_vertex(int i, int j, double xi, double eta, int side) {
     PlateBoundaryVertex v;
-    const double hx = m.cell_size[0], hy = m.cell_size[1];
-    v.x[0] = m.desc.min[0] + hx * (i + 0.5 * (1.0 + xi));
-    v.x[1] = m.desc.min[1] + hy * (j + 0.5 * (1.0 + eta));
+    physical_point(m, i, j, xi, eta, v.x);
     v.at = PlateMaterialPoint{{i, j}, xi, eta, side};
     out.vertices.push_back(v);
     return static_cast<int>(out.vertices.size()) - 1;
@@ -83,6 +103,7 @@ struct Walker {
     const int nx = m.desc.cells[0];
     const int cell = j * nx + i;
     const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
+    const PlateModel::Tip* tip = cut >= 0 ? tip_of_cell(m, cell, cut) : nullptr;
     const double xi0 = kXi[from], eta0 = kEta[from], xi1 = kXi[to], eta1 = kEta[to];
     if (cut < 0) {
       const int material = m.cell_material.empty() ? 0 : m.cell_material[static_cast<std::size_t>(cell)];
@@ -106,6 +127,9 @@ struct Walker {
     }
     double xim = 0, etam = 0;
     crossing(p0, p1, xi0, eta0, xi1, eta1, node(from), node(to), xim, etam);
+    // In a tip's cell the level set crosses the edge also where the crack's
+    // line runs on past the tip: there the edge is intact.
+    if (tip != nullptr && ahead_of_tip(m, *tip, i, j, xim, etam)) return add_segment(i, j, xi0, eta0, xi1, eta1, 1);
     const int lo = std::min(node(from), node(to)), hi = std::max(node(from), node(to));
     if (has_material(s0)) {
       add_segment(i, j, xi0, eta0, xim, etam, s0);
@@ -204,6 +228,50 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
       double phi[5], mean = 0;
       for (int a = 0; a < 4; ++a) mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>(nodes[a])]);
       phi[4] = 0.25 * mean;
+      if (const PlateModel::Tip* tip = tip_of_cell(m, cell, cut)) {
+        // A tip's cell, fanned from the tip as the plate integrates it: each
+        // face is the straight crack from where it enters the cell (the
+        // level set's crossing of that edge behind the tip, the point the
+        // cell behind finds) to the tip, where the two faces meet.
+        int edge = -1;
+        double exi = 0, eeta = 0;
+        for (int a = 0; a < 4 && edge < 0; ++a) {
+          const int b = (a + 1) % 4;
+          if (xfem::side_of(phi[a]) == xfem::side_of(phi[b])) continue;
+          crossing(phi[a], phi[b], kXi[a], kEta[a], kXi[b], kEta[b], nodes[a], nodes[b], exi, eeta);
+          if (!ahead_of_tip(m, *tip, i, j, exi, eeta)) edge = a;
+        }
+        if (edge < 0) continue;  // the crack enters at a node on no sign change: no faces here
+        const int lo = std::min(nodes[edge], nodes[(edge + 1) % 4]), hi = std::max(nodes[edge], nodes[(edge + 1) % 4]);
+        const double txi = 2.0 * (tip->origin[0] - m.desc.min[0]) / m.cell_size[0] - 2.0 * i - 1.0;
+        const double teta = 2.0 * (tip->origin[1] - m.desc.min[1]) / m.cell_size[1] - 2.0 * j - 1.0;
+        const int apex = w.add_vertex(i, j, txi, teta, 1);
+        out.vertices[static_cast<std::size_t>(apex)].tip = true;
+        // The tip frame's left (local y > 0) is the + side at the polyline's last point.
+        const int left = tip->at_end ? 1 : -1;
+        for (const int side : {1, -1}) {
+          const auto found = crossings.find(EdgeKey{0, lo, hi, side});
+          const int entry = found != crossings.end() ? found->second
+                                                     : (crossings[EdgeKey{0, lo, hi, side}] = w.add_vertex(i, j, exi, eeta, side));
+          // With its side's material on the left: towards the tip on the left side.
+          const bool inward = side == left;
+          const int a = inward ? entry : apex, b = inward ? apex : entry;
+          PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(a)];
+          PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(b)];
+          if (va.next >= 0 || vb.prev >= 0)
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) "
+                                        "(refine the mesh)",
+                                        cut, q.name.c_str(), i, j);
+          PlateBoundarySegment seg;
+          seg.a = a, seg.b = b, seg.cell[0] = i, seg.cell[1] = j, seg.side = side;
+          seg.xi[0] = inward ? exi : txi, seg.eta[0] = inward ? eeta : teta;
+          seg.xi[1] = inward ? txi : exi, seg.eta[1] = inward ? teta : eeta;
+          out.segments.push_back(seg);
+          va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
+        }
+        continue;
+      }
       for (int t = 0; t < 4; ++t) {
         // Triangle corners: cell corner t, corner t + 1, the centre (index 4).
         const int corner[3] = {t, (t + 1) % 4, 4};
@@ -509,20 +577,19 @@ PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& b, const P
   return p;
 }
 
-void plate_boundary_spread_force(const PlateModel& m, const PlateBoundary& b, const PlateBoundaryContact& c,
-                                 const double force[2], double* f) {
+int plate_boundary_material_points(const PlateBoundary& b, const PlateBoundaryContact& c, PlateMaterialPoint at[2],
+                                   double share[2]) {
+  at[0] = plate_boundary_material_point(b, c);
   if (c.partner < 0) {
-    plate_spread_force(m, plate_boundary_material_point(b, c), force, f);
-    return;
+    share[0] = 1.0;
+    return 1;
   }
-  const double w = c.partner_weight;
-  const double first[2] = {(1.0 - w) * force[0], (1.0 - w) * force[1]};
-  const double second[2] = {w * force[0], w * force[1]};
   PlateBoundaryContact other;
   other.segment = c.partner;
   other.t = c.partner_t;
-  plate_spread_force(m, plate_boundary_material_point(b, c), first, f);
-  plate_spread_force(m, plate_boundary_material_point(b, other), second, f);
+  at[1] = plate_boundary_material_point(b, other);
+  share[0] = 1.0 - c.partner_weight, share[1] = c.partner_weight;
+  return 2;
 }
 
 void plate_spread_force(const PlateModel& m, const PlateMaterialPoint& at, const double force[2], double* f) {

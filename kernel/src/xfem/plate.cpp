@@ -556,7 +556,23 @@ void evaluate(const PlateModel& m, const CellView& v, double xi, double eta, int
       while (tips_here[slot] >= 0 && tips_here[slot] != v.tip[f]) ++slot;
       if (tips_here[slot] >= 0) continue;
       tips_here[slot] = v.tip[f];
-      xfem::branch_functions(frame_of(m.tips[static_cast<std::size_t>(v.tip[f])]), x, tip_value[slot], tip_grad[slot]);
+      const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip[f])];
+      Point2 at = x;
+      if (v.cut == t.crack) {
+        // A point on the crack's line behind the tip (a face's point: a piece's
+        // corner, the contact boundary's) takes its own side's limit θ = ±π,
+        // not the one the round-off of its local y picks: moved, if need be,
+        // to local y = ±max(|y|, 1e-15 of a cell), on its side.
+        const double ox = x[0] - t.origin[0], oy = x[1] - t.origin[1];
+        const double lx = t.cos_a * ox + t.sin_a * oy, ly = -t.sin_a * ox + t.cos_a * oy;
+        const double h = std::min(m.cell_size[0], m.cell_size[1]);
+        const double want = (side > 0) == t.at_end ? 1.0 : -1.0;  // the sign of local y on this side
+        if (lx < 0.0 && std::fabs(ly) <= 1e-12 * h && !(ly * want > 0.0)) {
+          const double shift = want * std::max(std::fabs(ly), 1e-15 * h) - ly;
+          at = {x[0] - t.sin_a * shift, x[1] + t.cos_a * shift};
+        }
+      }
+      xfem::branch_functions(frame_of(t), at, tip_value[slot], tip_grad[slot]);
     }
   }
   for (int f = 0; f < v.count; ++f) {

@@ -49,6 +49,9 @@ struct PlateBoundaryVertex {
   double x[2] = {0, 0};  ///< reference position, m
   PlateMaterialPoint at;
   int prev = -1, next = -1;  ///< the segments ending and starting here (−1: a chain's end)
+  /// A crack's tip, where its two faces meet (in the tip's cell each face
+  /// runs straight from where the crack enters the cell to the tip).
+  bool tip = false;
 };
 
 /// From vertex a to vertex b with the material on the left (outward normal to
@@ -106,7 +109,7 @@ struct PlateBoundaryContact {
   /// (1 − w)·this edge's foot + w·the partner's foot (`point` is the blend,
   /// `normal` along centre − point; `overlap` stays the closest point's), and
   /// the force is shared by the two material points in those proportions
-  /// (plate_boundary_spread_force).
+  /// (plate_boundary_material_points).
   int partner = -1;
   double partner_t = 0;       ///< parameter along the partner segment of its foot
   double partner_weight = 0;  ///< w, in [0, ½]
@@ -133,11 +136,12 @@ PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& boundary, 
 /// them. No allocation.
 void plate_spread_force(const PlateModel& plate, const PlateMaterialPoint& at, const double force[2], double* f);
 
-/// plate_spread_force at a contact's material point, or at its two (shares
-/// 1 − w and w) for a blended contact, whose point is their blend: the plate
-/// gets the force and its moment about any point. No allocation.
-void plate_boundary_spread_force(const PlateModel& plate, const PlateBoundary& boundary,
-                                 const PlateBoundaryContact& contact, const double force[2], double* f);
+/// Where a contact's force acts on the plate: its material point (returns
+/// 1, share 1), or a blended contact's two (returns 2, shares 1 − w and w),
+/// whose blend is its point, so that the plate gets the force and its moment
+/// about any point.
+int plate_boundary_material_points(const PlateBoundary& boundary, const PlateBoundaryContact& contact,
+                                   PlateMaterialPoint at[2], double share[2]);
 
 /// The plate's field (displacement u, or a rate with held components 0) at a
 /// material point. No allocation.
