@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <vector>
 
 #include "xfdem/bar.hpp"
+#include "xfdem/platform/alloc_guard.hpp"
 #include "stress/bar_sweeps.hpp"
 #include "xfem/reference.hpp"
 
@@ -360,7 +362,7 @@ TEST(AbsorbingBase, PulseLeavesWithUnderOnePercentReflected) {
 // step ends with. The scene: the upper piece lifted 0.1 m and pressed down
 // at 1e5·E·A, on the stability boundary (0.3025, 0.6) with X-FEM and at
 // 1.15 times it, (0.3104, 0.539), on the conforming mesh (the bar stress
-// sweep's cases with held openings on either mesh).
+// sweep's cases with held openings on either mesh). No step allocates.
 TEST(Unilateral, HeldOpeningIsReleasedInTheStepTheFacesSeparate) {
   struct Case {
     BarDesc::Method method;
@@ -399,11 +401,14 @@ TEST(Unilateral, HeldOpeningIsReleasedInTheStepTheFacesSeparate) {
     auto vec = [n](const std::vector<double>& x) { return Eigen::Map<const Eigen::VectorXd>(x.data(), n); };
 
     int released = 0, compared = 0;
+    std::uint64_t allocations = 0;  // by the steps (the held, released ones among them)
     double worst_residual = 0, largest_old_force = 0, worst_next = 0;
     for (int step = 0; step < 20000; ++step) {
       const double g_start = bar_interface_gap(m, st);
       const std::int32_t closed_start = st.interface_closed;
+      const platform::AllocationCounter counter;
       ASSERT_EQ(bar_step(m, st, ws, BarInput{press}), StepStatus::ok) << "step " << step;
+      allocations += counter.allocations();
       if (ws.last_held_open != 1) continue;
       ++released;
       const double g = bar_interface_gap(m, st);
@@ -443,5 +448,6 @@ TEST(Unilateral, HeldOpeningIsReleasedInTheStepTheFacesSeparate) {
     EXPECT_LE(worst_residual, tolerance);
     EXPECT_GT(largest_old_force, 1e3 * tolerance);  // what the check would have seen before
     EXPECT_LE(worst_next, tolerance);
+    EXPECT_EQ(allocations, 0u);
   }
 }
