@@ -39,7 +39,8 @@
 // bound asked of a unilateral case is the same E ≤ E0 + W + ε·A, and the
 // identity above is checked with that taken out. The test computes R and D
 // itself from the gaps, the active set and the interface force a holds (r is
-// also k·g after an opening the kernel held to the step's end).
+// k·g at the end of an opening the kernel held to the step's end and released
+// there, with the release's change of a booked).
 #pragma once
 #include <Eigen/Dense>
 #include <algorithm>
@@ -167,7 +168,10 @@ struct BarOutcome {
   double removed = 0;         ///< Σ max(R − D, 0)/A: what the unilateral energy rule took out (unsplit steps)
   double kernel_removed = 0;  ///< the same as the kernel reports it (BarWorkspace::last_energy_removed), printed only
   double left = 0;            ///< Σ BarWorkspace::last_energy_left / A: gains the rule could not take out
+  double left_switching = 0;  ///< the part of `left` on steps whose set changed (the rest: linear steps' round-off)
   std::int64_t switches = 0;  ///< changes of the active set
+  std::int64_t held = 0;      ///< openings the kernel held to the step's end (BarWorkspace::last_held_open ≠ 0)
+  std::int64_t released = 0;  ///< of those, released at that end (last_held_open = 1)
   std::int64_t split_steps = 0;  ///< steps the kernel split at interface events (Newmark (¼, ½) only)
   std::int64_t split_with_varying_force = 0;  ///< of those, steps whose tip force changed (not checked)
   double worst_split_excess = 0;  ///< max over split steps of ([E] − F·[u_tip]) / A: ≤ ε (see below)
@@ -243,10 +247,19 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
   // The force a_0 was computed with (no input at build; the press for a lifted start).
   double f0 = bar_tip_load(m, 0.0) + (load.lift > 0.0 ? load.press : 0.0);
   double ehat_prev = ehat0, worst_split = 0;
+  // M⁻¹g, g the gap's vector (upper minus lower side): the direction along
+  // which a released opening's force leaves a.
+  Eigen::VectorXd gap_acceleration = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  if (m.unilateral) {
+    Eigen::VectorXd gvec = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+    for (int i = 0; i < m.gap_terms; ++i) gvec[m.gap_dof[i]] += m.gap_coeff[i];
+    gap_acceleration = test::dense(m.mass).ldlt().solve(gvec);
+  }
   double g0 = bar_interface_gap(m, st);
   std::int32_t closed0 = st.interface_closed;
   double force_in_a = interface_force(g0, closed0);
-  double work = 0, sum_r = 0, sum_d = 0, gain = 0, available = e0, peak = e0, removed = 0, kernel_removed = 0, left = 0;
+  double work = 0, sum_r = 0, sum_d = 0, gain = 0, available = e0, peak = e0, removed = 0, kernel_removed = 0, left = 0,
+         left_switching = 0;
   // Raw extremes (J), divided by the scales once they are known at the end.
   double worst_excess = 0, worst_identity = 0;
 
@@ -265,6 +278,8 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
     const double g1 = bar_interface_gap(m, st);
     const std::int32_t closed1 = st.interface_closed;
     if (closed1 != closed0) ++o.switches;
+    o.held += ws.last_held_open != 0 ? 1 : 0;
+    o.released += ws.last_held_open == 1 ? 1 : 0;
     double e = 0, ehat = 0;  // this step's energy, and the algorithmic energy the identity carries on from
     if (ws.last_events > 0) {
       // Split at interface events into trapezoidal substeps, each of a linear
@@ -304,13 +319,27 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
         work -= c * du[b] * ((1 - gamma) * v0[b] + gamma * vb1);
       }
       // Switching term and numerical dissipation of this step.
-      // r: the interface force a holds, k·g while the spring acts, and also
-      // after an opening held to the step's end (BarWorkspace::last_held_open);
-      // φ: its energy, ½k g² while the set is closed.
-      const double r0 = force_in_a, r1 = ws.last_held_open ? k * g1 : interface_force(g1, closed1);
+      // r: the interface force a holds, k·g while the spring acts; φ: its
+      // energy, ½k g² while the set is closed. An opening the kernel held to
+      // the step's end and released there (BarWorkspace::last_held_open = 1)
+      // was integrated with r = k·g at the end, and its release took that
+      // force out of a (a_held = a − k g M⁻¹g, M⁻¹g solved here), which
+      // moves Ê by ½Δt²(β − γ/2)(aᵀMa − a_heldᵀMa_held); the next step
+      // starts with r = 0.
+      const bool released = ws.last_held_open == 1;
+      double release = 0;
+      if (released) {
+        for (std::size_t j = 0; j < n; ++j) da[j] -= k * g1 * gap_acceleration[static_cast<Eigen::Index>(j)];
+        if (beta != 0.5 * gamma) {
+          std::vector<double> held(st.a);
+          for (std::size_t j = 0; j < n; ++j) held[j] -= k * g1 * gap_acceleration[static_cast<Eigen::Index>(j)];
+          release = 0.5 * dt * dt * (beta - 0.5 * gamma) * (m.mass.quadratic(st.a.data()) - m.mass.quadratic(held.data()));
+        }
+      }
+      const double r0 = force_in_a, r1 = released ? k * g1 : interface_force(g1, closed1);
       const double phi0 = 0.5 * interface_force(g0, closed0) * g0, phi1 = 0.5 * interface_force(g1, closed1) * g1;
-      const double rstep = (phi1 - phi0) - (g1 - g0) * 0.5 * (r0 + r1);
-      force_in_a = r1;
+      const double rstep = (phi1 - phi0) - (g1 - g0) * 0.5 * (r0 + r1) + release;
+      force_in_a = interface_force(g1, closed1);
       const double dstep =
           gamma == 0.5 ? 0.0
                        : (gamma - 0.5) * (m.stiffness.quadratic(du.data()) + (g1 - g0) * (r1 - r0) +
@@ -325,6 +354,7 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
       // last_energy_left, summed apart and printed), less that.
       if (m.unilateral) removed += std::max(rstep - dstep, 0.0) - ws.last_energy_left;
       left += ws.last_energy_left;
+      if (closed1 != closed0 || released) left_switching += ws.last_energy_left;
       kernel_removed += ws.last_energy_removed;
 
       e = energy();
@@ -358,6 +388,7 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
   o.removed = removed / available;
   o.kernel_removed = kernel_removed / available;
   o.left = left / available;
+  o.left_switching = left_switching / available;
   o.worst_split_excess = worst_split / available;
   return o;
 }
@@ -376,10 +407,11 @@ inline void print_outcome(const char* label, const BarOutcome& o) {
   }
   std::printf(
       "  %s | %s | cond %.1e eps %.1e | (E-E0-W)/A %.2e identity %.1e peak E/A %.3g | switches %lld gain %.2e "
-      "net %+.2e D %.2e removed %.2e (kernel %.2e, left %.2e) | split %lld worst %.1e\n",
+      "net %+.2e D %.2e removed %.2e (kernel %.2e, left %.2e, switching %.2e) held %lld (released %lld) | split %lld worst %.1e\n",
       label, flag_text(o.flags).c_str(), o.condition, o.epsilon, o.worst_excess, o.worst_identity, o.peak_energy,
-      static_cast<long long>(o.switches), o.switching_gain, o.switching_net, o.dissipated, o.removed, o.kernel_removed, o.left,
-      static_cast<long long>(o.split_steps), o.worst_split_excess);
+      static_cast<long long>(o.switches), o.switching_gain, o.switching_net, o.dissipated, o.removed, o.kernel_removed, o.left, o.left_switching,
+      static_cast<long long>(o.held),
+      static_cast<long long>(o.released), static_cast<long long>(o.split_steps), o.worst_split_excess);
 }
 
 /// The assertions every case makes. The suite's contract: bounded or reported.

@@ -4,10 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include "xfdem/bar.hpp"
+#include "xfdem/platform/alloc_guard.hpp"
+#include "stress/bar_sweeps.hpp"
 #include "xfem/reference.hpp"
 
 using namespace xfdem;
@@ -339,5 +343,111 @@ TEST(AbsorbingBase, PulseLeavesWithUnderOnePercentReflected) {
                 100 * (e.kinetic + e.elastic) / e_in);
     EXPECT_GT(e_in, 0.0);
     EXPECT_LT(e.kinetic + e.elastic, 0.01 * e_in);
+  }
+}
+
+// An opening whose gain the velocity cannot give is taken with the spring
+// held to the step's end (bar_step()); where the faces have separated there
+// it must be released in that same step: the state it ends with is that of
+// the open set, and the next step starts from it. (The kernel left the
+// spring's force k·g in a until then, and the next step's predictor pulled
+// the faces together with it.) Checked against the test's own dense
+// algebra: at every released step the step must have started with the faces
+// touching (g_n < 0: the step in which they separate), and the open set's
+// equation of motion, M a = f − K_open u, must hold at its end within the
+// round-off of one solve, 16·κ·u (κ of the scaled effective matrix, as the
+// stress sweep's ε for one step; the force k·g a carried before is printed
+// beside it); the next step's u and a (which the energy rule does not touch)
+// must be the test's own Newmark step from that state, with the set that
+// step ends with. The scene: the upper piece lifted 0.1 m and pressed down
+// at 1e5·E·A, on the stability boundary (0.3025, 0.6) with X-FEM and at
+// 1.15 times it, (0.3104, 0.539), on the conforming mesh (the bar stress
+// sweep's cases with held openings on either mesh). No step allocates.
+TEST(Unilateral, HeldOpeningIsReleasedInTheStepTheFacesSeparate) {
+  struct Case {
+    BarDesc::Method method;
+    double beta, gamma;
+  };
+  for (const Case c : {Case{BarDesc::Method::xfem, 0.3025, 0.6},
+                       Case{BarDesc::Method::fem, 1.15 * 0.25 * 1.039 * 1.039, 0.539}}) {
+    BarDesc d = test::v2_rod(30, 1e-3);
+    d.tip_load = BarDesc::TipLoad::none;
+    d.tip_amplitude = 0.0;
+    d.tip_duration = 0.0;
+    d.method = c.method;
+    d.beta = c.beta;
+    d.gamma = c.gamma;
+    d.interface = BarInterfaceDesc{14.5, 1e5 * d.youngs_modulus * d.area, BarInterfaceDesc::Behaviour::unilateral};
+    const double press = -1e4;
+    BarModel m;
+    BarState st;
+    BarWorkspace ws;
+    ASSERT_TRUE(build_bar(d, m, st, ws).ok());
+    for (const BarCell& cell : m.cells)
+      if (cell.a >= m.interface_position)
+        for (int dof : cell.dof)
+          if (dof >= 0) st.u[static_cast<std::size_t>(dof)] = 0.1;
+    ASSERT_EQ(bar_initial_acceleration(m, st, ws, BarInput{press}), StepStatus::ok);
+    const double tolerance = 16.0 * stress::scaled_condition(m) * std::numeric_limits<double>::epsilon() / 2;
+
+    const Eigen::MatrixXd mass = test::dense(m.mass);
+    const Eigen::MatrixXd k_open = test::dense_stiffness(m, false), k_closed = test::dense_stiffness(m, true);
+    const auto n = static_cast<Eigen::Index>(m.dofs);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+    f(m.tip_dof) = press;
+    const double dt = d.dt, beta = d.beta;
+    const Eigen::LDLT<Eigen::MatrixXd> effective_open(mass + beta * dt * dt * k_open);
+    const Eigen::LDLT<Eigen::MatrixXd> effective_closed(mass + beta * dt * dt * k_closed);
+    auto vec = [n](const std::vector<double>& x) { return Eigen::Map<const Eigen::VectorXd>(x.data(), n); };
+
+    int released = 0, compared = 0;
+    std::uint64_t allocations = 0;  // by the steps (the held, released ones among them)
+    double worst_residual = 0, largest_old_force = 0, worst_next = 0;
+    for (int step = 0; step < 20000; ++step) {
+      const double g_start = bar_interface_gap(m, st);
+      const std::int32_t closed_start = st.interface_closed;
+      const platform::AllocationCounter counter;
+      ASSERT_EQ(bar_step(m, st, ws, BarInput{press}), StepStatus::ok) << "step " << step;
+      allocations += counter.allocations();
+      if (ws.last_held_open != 1) continue;
+      ++released;
+      const double g = bar_interface_gap(m, st);
+      EXPECT_GT(g, 0.0) << "step " << step;
+      EXPECT_EQ(st.interface_closed, 0) << "step " << step;
+      EXPECT_EQ(closed_start, 1) << "step " << step;
+      EXPECT_LT(g_start, 0.0) << "step " << step << ": the faces separated in an earlier step";
+      const Eigen::VectorXd u = vec(st.u), v = vec(st.v), a = vec(st.a);
+      // The open set's equation of motion, relative to the size of its terms.
+      const Eigen::VectorXd ku = k_open * u;
+      const double size = (mass * a).cwiseAbs().maxCoeff() + ku.cwiseAbs().maxCoeff() + std::abs(press);
+      worst_residual = std::max(worst_residual, (mass * a + ku - f).cwiseAbs().maxCoeff() / size);
+      largest_old_force = std::max(largest_old_force, m.interface_stiffness * g / size);
+      // The next step from this state, with the set the kernel's step ends with.
+      const Eigen::VectorXd u_pred = u + dt * v + (0.5 - beta) * dt * dt * a;
+      ASSERT_EQ(bar_step(m, st, ws, BarInput{press}), StepStatus::ok);
+      ++step;
+      if (ws.last_held_open != 0) continue;
+      const bool closed = st.interface_closed != 0;
+      const Eigen::VectorXd a_next = closed ? effective_closed.solve(f - k_closed * u_pred)
+                                            : effective_open.solve(f - k_open * u_pred);
+      const Eigen::VectorXd u_next = u_pred + beta * dt * dt * a_next;
+      ++compared;
+      // u relative to its size; a as the force M Δa relative to the terms of the solve's right-hand side.
+      const Eigen::VectorXd rhs_terms = (closed ? k_closed : k_open) * u_pred;
+      const double rhs_size = rhs_terms.cwiseAbs().maxCoeff() + std::abs(press);
+      worst_next = std::max({worst_next, (vec(st.u) - u_next).cwiseAbs().maxCoeff() / u.cwiseAbs().maxCoeff(),
+                             (mass * (vec(st.a) - a_next)).cwiseAbs().maxCoeff() / rhs_size});
+    }
+    std::printf("  %s (%.4f, %.3f): %d openings released at the step's end, max |M a + K u - f| / size %.1e "
+                "(tolerance %.1e; the force k g left in a before: up to %.1e of it); next step vs the test's "
+                "Newmark step (%d compared): %.1e\n",
+                c.method == BarDesc::Method::xfem ? "xfem" : "fem ", c.beta, c.gamma, released, worst_residual,
+                tolerance, largest_old_force, compared, worst_next);
+    EXPECT_GT(released, 0);
+    EXPECT_GT(compared, 0);
+    EXPECT_LE(worst_residual, tolerance);
+    EXPECT_GT(largest_old_force, 1e3 * tolerance);  // what the check would have seen before
+    EXPECT_LE(worst_next, tolerance);
+    EXPECT_EQ(allocations, 0u);
   }
 }

@@ -249,9 +249,13 @@ struct BarWorkspace {
   /// What the rule could not take out of the last step (J; 0 but where the
   /// velocity could not give a gain that was not an opening).
   double last_energy_left = 0.0;
-  /// 1 when the last bar_step() held the interface closed to its end and
-  /// opened it there (an opening whose gain the velocity could not give): its
-  /// a holds the spring's force k·g of the end, with g > 0.
+  /// An opening whose gain the velocity could not give, taken by the last
+  /// bar_step() with the spring held to the step's end: 1 when the faces had
+  /// separated there and it released them (the set open, the spring's force
+  /// taken out of a); 2 when it kept the set closed with g > 0 for the next
+  /// step's solve to open (a sliver cut, or a release whose change of a the
+  /// velocity could not pay for); 0 otherwise. a always holds the force of
+  /// the set the step ends with.
   int last_held_open = 0;
 };
 
@@ -281,13 +285,10 @@ StepStatus bar_adjust_step_input(const BarModel& model, BarState& state, BarWork
 /// of Ê, convex), and the blend creates no energy. Where bar_step() locates
 /// switches (under (¼, ½), whose Ê does not weigh a, and not at a sliver
 /// cut), a is moved along M⁻¹g to hold that set's spring force, as at a
-/// located switch (a blend of the ends' a holds the blend of theirs; a held
-/// opening's a holds one with the set open). `into_held_open` and `other_held_open` are the
-/// BarWorkspace::last_held_open of the steps that made them. Returns false,
-/// changing nothing, unless both have the same sizes and step count and
-/// 0 < θ < 1. No allocation.
-bool bar_blend_step_ends(const BarModel& model, BarState& into, const BarState& other, double theta,
-                         int into_held_open, int other_held_open);
+/// located switch (a blend of the ends' a holds the blend of theirs; each
+/// end's a holds the force of its own set). Returns false, changing nothing,
+/// unless both have the same sizes and step count and 0 < θ < 1. No allocation.
+bool bar_blend_step_ends(const BarModel& model, BarState& into, const BarState& other, double theta);
 
 /// Only the validation of build_bar() (no allocation), for tools that check input first.
 BuildResult validate_bar(const BarDesc& desc);
@@ -309,7 +310,9 @@ BuildResult validate_bar(const BarDesc& desc);
 /// cannot pay for, or one with a switch it could not place at the zero
 /// (BarWorkspace::last_unlocated), is taken whole instead; an opening the
 /// velocity cannot pay for is taken with the spring held to the end of the
-/// step and opened there, a linear step whose ½k g² the opening then drops
+/// step, a linear step, and released there if the faces have separated (the
+/// set opened, ½k g² dropped and the spring's force taken out of a), but at a
+/// sliver cut, where the set stays closed for the next step's solve to open
 /// (BarWorkspace::last_held_open). What is still left is reported in
 /// BarWorkspace::last_energy_left (docs/stability.md says where it was seen).
 /// A step without a change is exactly one Newmark step.

@@ -404,7 +404,6 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
       // top then moves differently at the two ends (a tied bar's by the
       // tolerance), so the bar is blended too, with the particles' weight.
       const bool blend_bar = !m.bar.linear_in_tip_force;
-      const int held_here = w.bar.last_held_open;
       if (blend_bar) w.bar_end = s.bar;  // same sizes: element-wise copies, no allocation
       status |= window_pass(m, s, w, f_other + carried, true, J);
       if (has(status, kStepNotTaken)) return status;
@@ -422,7 +421,7 @@ StepStatus coupled_step_untimed(const CoupledModel& m, CoupledState& s, CoupledW
         if (blend_bar) {
           w.last_blend_tip_spread =
               std::fabs(bar_tip_displacement(m.bar, s.bar) - bar_tip_displacement(m.bar, w.bar_end));
-          (void)bar_blend_step_ends(m.bar, s.bar, w.bar_end, theta, w.bar.last_held_open, held_here);  // checked above
+          (void)bar_blend_step_ends(m.bar, s.bar, w.bar_end, theta);  // checked above
           f = (1.0 - theta) * f + theta * f_here;
         }
         J = s.dem.plane_impulse[static_cast<std::size_t>(m.top_plane)];

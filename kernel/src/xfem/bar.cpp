@@ -879,6 +879,21 @@ double energy_rule(const BarModel& m, BarState& st, BarWorkspace& ws, double e_s
 
 constexpr double kSliver = 1e-6;
 
+namespace {
+/// A cut within kSliver of an element from a node (the conforming mesh's
+/// sliver element, or X-FEM's sliver side).
+bool sliver_cut(const BarModel& m) {
+  const double s = std::min(m.cut_fraction, 1.0 - m.cut_fraction);
+  return s > 0.0 && s < kSliver;
+}
+
+/// y += c·x, element by element. The arrays do not overlap (restrict), so
+/// the compiler runs the loop in both SSE2 lanes without checking.
+void add_scaled(double* __restrict y, double c, const double* __restrict x, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) y[i] += c * x[i];
+}
+}  // namespace
+
 /// Interface events are located for the trapezoidal rule (β = ¼, γ = ½), the
 /// one accepted scheme with no numerical dissipation, which is energy-exact on
 /// every substep. For γ > ½ the algorithmic energy ½h²(β − γ/2)aᵀMa depends
@@ -892,8 +907,7 @@ bool locates_interface_events(const BarModel& m) {
   // does not damp, move the gap faster than a substep's length resolves, and
   // substeps pump them (coupled, X-FEM cuts of 1e-12 … 1e-8 blew up). Such a
   // cut takes whole steps, the energy rule taking out the switch.
-  const double s = std::min(m.cut_fraction, 1.0 - m.cut_fraction);
-  return !(s > 0.0 && s < kSliver);
+  return !sliver_cut(m);
 }
 
 StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& workspace, const BarInput& input) {
@@ -988,20 +1002,49 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
     if (left > 0.0 && zero_if_finite == 0.0 && closed_before != 0 && state.interface_closed == 0) {
       // An opening whose gain the velocity cannot give (the pieces nearly at
       // rest, the energy elastic): the step again with the spring held on
-      // throughout, a linear step whose energy cannot rise with ½k g² counted
-      // at its end, which opening the set there then drops. a keeps the
-      // spring's force of the end: it only pulls the faces together, and what
-      // it does next is booked by the same rule. (A closing gains nothing:
-      // −k(γ − ½)g_{n+1}² + kγ g_n g_{n+1} ≤ 0 for g_n ≥ 0 > g_{n+1}.)
+      // throughout, a linear step whose energy cannot rise, with ½k g² counted
+      // at its end.
       restore_step_start();
       s = held_substep(model, state, workspace, input.tip_force, 1, t_next, model.scheme.dt, net_force);
       book_whole();
       zero_if_finite = all_finite(state.u) && all_finite(state.v) && all_finite(state.a) ? 0.0 : 1.0;
-      if (!agrees(1, detail::bar_gap_of(model, state.u.data()))) {
-        state.interface_closed = 0;
-        workspace.last_held_open = 1;
-      }
       workspace.last_energy_removed = rule();
+      if (zero_if_finite == 0.0 && !agrees(1, detail::bar_gap_of(model, state.u.data()))) {
+        // The faces have separated: released here, the set opened and the
+        // spring's force at the end, k times the gap the solve saw, taken out
+        // of a along M⁻¹g (as at a located switch; 1ᵀg = 0, so 1ᵀMa and the
+        // momentum books do not change). Opening drops ½k g²; a's change
+        // moves Ê only through ½Δt²(β − γ/2)aᵀMa (nothing under (¼, ½)),
+        // which the rule takes out of the velocity. Left in a (as it was),
+        // the force pulled the faces together over the next step, whose
+        // closing then gave back ½k g² that no velocity could pay (a sliver's
+        // mode closed and reopened every step so: 1.55·A over the stress
+        // sweep's run).
+        // Not released: at a sliver cut (M⁻¹g is ∝ 1/s on the sliver's
+        // unknown, and the next predictor rounds it into energy: a conforming
+        // 1e-9 sliver gained up to 1.2·A), or where the velocity cannot pay
+        // for a's change. The set then stays closed with g > 0 and a
+        // consistent with it, and the next step's solve opens it: from g_n > 0
+        // with the spring acting, an opening loses k(1 − γ)g_n g_{n+1} +
+        // k(γ − ½)g_n².
+        save_start(state, workspace);
+        const double removed_held = workspace.last_energy_removed, left_held = left;
+        const double spring = model.interface_stiffness * workspace.solved_gap;
+        bool released = false;
+        if (!sliver_cut(model)) {
+          state.interface_closed = 0;
+          add_scaled(state.a.data(), spring, model.gap_unit_acceleration.data(), state.a.size());
+          workspace.last_energy_removed = removed_held + rule();
+          released = !(left > left_held);  // a's change paid for
+          if (!released) {
+            restore_start(state, workspace);
+            state.interface_closed = 1;
+            workspace.last_energy_removed = removed_held;
+            left = left_held;
+          }
+        }
+        workspace.last_held_open = released ? 1 : 2;
+      }
     }
     workspace.last_energy_left = left;
   }
@@ -1017,13 +1060,6 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   return s;
 }
 
-namespace {
-/// y += c·x, element by element. The arrays do not overlap (restrict), so
-/// the compiler runs the loop in both SSE2 lanes without checking.
-void add_scaled(double* __restrict y, double c, const double* __restrict x, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) y[i] += c * x[i];
-}
-}  // namespace
 
 StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force) {
   if (!m.built || !m.linear_in_tip_force) return StepStatus::not_built;
@@ -1061,17 +1097,16 @@ StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& 
   return s;
 }
 
-bool bar_blend_step_ends(const BarModel& m, BarState& into, const BarState& other, double theta, int into_held_open,
-                         int other_held_open) {
+bool bar_blend_step_ends(const BarModel& m, BarState& into, const BarState& other, double theta) {
   if (!m.built || !(theta > 0.0 && theta < 1.0) || into.u.size() != other.u.size() || into.step != other.step)
     return false;
   const auto blend = [theta](double& x, double y) {
     if (x != y) x = (1.0 - theta) * x + theta * y;  // equal values keep their bits
   };
-  // The spring force each end's a holds (a held opening's a keeps it with the set open).
-  const double carried_into = into.interface_closed != 0 || into_held_open != 0 ? detail::bar_gap_of(m, into.u.data()) : 0.0;
-  const double carried_other =
-      other.interface_closed != 0 || other_held_open != 0 ? detail::bar_gap_of(m, other.u.data()) : 0.0;
+  // The spring force each end's a holds: that of its set (bar_step() releases
+  // a held opening's force, or keeps the set closed).
+  const double carried_into = into.interface_closed != 0 ? detail::bar_gap_of(m, into.u.data()) : 0.0;
+  const double carried_other = other.interface_closed != 0 ? detail::bar_gap_of(m, other.u.data()) : 0.0;
   const double gap_into = detail::bar_gap_of(m, into.u.data()), gap_other = detail::bar_gap_of(m, other.u.data());
   for (std::size_t i = 0; i < into.u.size(); ++i) {
     blend(into.u[i], other.u[i]);
@@ -1083,8 +1118,7 @@ bool bar_blend_step_ends(const BarModel& m, BarState& into, const BarState& othe
   blend(into.energy.work, other.energy.work);
   into.energy.peak = std::max(into.energy.peak, other.energy.peak);
   into.energy.exceeded = std::max(into.energy.exceeded, other.energy.exceeded);
-  if (!m.unilateral || (into.interface_closed == other.interface_closed && into_held_open == 0 && other_held_open == 0))
-    return true;
+  if (!m.unilateral || into.interface_closed == other.interface_closed) return true;
   const double gap = detail::bar_gap_of(m, into.u.data());
   if (into.interface_closed != other.interface_closed) {
     // (1 − θ)g₁ + θg₂ < 0 with the open end's g ≥ 0 bounds g² by the closed
