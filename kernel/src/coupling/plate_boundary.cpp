@@ -99,6 +99,21 @@ struct Walker {
     broke = true;
   }
 
+  /// A segment of a cut between two vertices already made, in cell (i, j)
+  /// from (xi0, eta0) at a to (xi1, eta1) at b. False, adding nothing, when
+  /// either end is already taken (the cut's boundary meets itself there).
+  bool link(int a, int b, int i, int j, double xi0, double eta0, double xi1, double eta1, int side) {
+    PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(a)];
+    PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(b)];
+    if (va.next >= 0 || vb.prev >= 0) return false;
+    PlateBoundarySegment seg;
+    seg.a = a, seg.b = b, seg.cell[0] = i, seg.cell[1] = j, seg.side = side;
+    seg.xi[0] = xi0, seg.eta[0] = eta0, seg.xi[1] = xi1, seg.eta[1] = eta1;
+    out.segments.push_back(seg);
+    va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
+    return true;
+  }
+
   void edge(int i, int j, int from, int to) {
     const int nx = m.desc.cells[0];
     const int cell = j * nx + i;
@@ -188,6 +203,11 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
   const int nx = m.desc.cells[0], ny = m.desc.cells[1];
   std::map<EdgeKey, int> crossings;
   Walker w{m, out, crossings};
+  auto meets_itself = [](int cut, const PlateDiscontinuity& q, int i, int j) {
+    return BuildResult::failure(Code::invalid_argument,
+                                "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) (refine the mesh)",
+                                cut, q.name.c_str(), i, j);
+  };
   for (int i = 0; i < nx; ++i) w.edge(i, 0, 0, 1);             // bottom, left to right
   for (int j = 0; j < ny; ++j) w.edge(nx - 1, j, 1, 2);        // right, upwards
   for (int i = nx - 1; i >= 0; --i) w.edge(i, ny - 1, 2, 3);   // top, right to left
@@ -255,20 +275,9 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
                                                      : (crossings[EdgeKey{0, lo, hi, side}] = w.add_vertex(i, j, exi, eeta, side));
           // With its side's material on the left: towards the tip on the left side.
           const bool inward = side == left;
-          const int a = inward ? entry : apex, b = inward ? apex : entry;
-          PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(a)];
-          PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(b)];
-          if (va.next >= 0 || vb.prev >= 0)
-            return BuildResult::failure(Code::invalid_argument,
-                                        "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) "
-                                        "(refine the mesh)",
-                                        cut, q.name.c_str(), i, j);
-          PlateBoundarySegment seg;
-          seg.a = a, seg.b = b, seg.cell[0] = i, seg.cell[1] = j, seg.side = side;
-          seg.xi[0] = inward ? exi : txi, seg.eta[0] = inward ? eeta : teta;
-          seg.xi[1] = inward ? txi : exi, seg.eta[1] = inward ? teta : eeta;
-          out.segments.push_back(seg);
-          va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
+          const bool linked = inward ? w.link(entry, apex, i, j, exi, eeta, txi, teta, side)
+                                     : w.link(apex, entry, i, j, txi, teta, exi, eeta, side);
+          if (!linked) return meets_itself(cut, q, i, j);
         }
         continue;
       }
@@ -319,18 +328,8 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
             ends[e] = found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, cxi[k], ceta[k], side));
           }
           if (ends[0] == ends[1]) continue;  // the line through a corner: no length
-          PlateBoundaryVertex& va = out.vertices[static_cast<std::size_t>(ends[0])];
-          PlateBoundaryVertex& vb = out.vertices[static_cast<std::size_t>(ends[1])];
-          if (va.next >= 0 || vb.prev >= 0)
-            return BuildResult::failure(Code::invalid_argument,
-                                        "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) "
-                                        "(refine the mesh)",
-                                        cut, q.name.c_str(), i, j);
-          PlateBoundarySegment seg;
-          seg.a = ends[0], seg.b = ends[1], seg.cell[0] = i, seg.cell[1] = j, seg.side = side;
-          seg.xi[0] = cxi[first], seg.eta[0] = ceta[first], seg.xi[1] = cxi[1 - first], seg.eta[1] = ceta[1 - first];
-          out.segments.push_back(seg);
-          va.next = vb.prev = static_cast<int>(out.segments.size()) - 1;
+          if (!w.link(ends[0], ends[1], i, j, cxi[first], ceta[first], cxi[1 - first], ceta[1 - first], side))
+            return meets_itself(cut, q, i, j);
         }
       }
     }

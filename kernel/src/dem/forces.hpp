@@ -121,6 +121,24 @@ bool contact_set_changed(const DemModel<D>& m, const DemState<D>& s, double ta, 
   return false;
 }
 
+/// abm4_events' bisection for the first fraction of an interval at which the
+/// contact set changes: `piece(length)` steps from the interval's start over
+/// `length` into the trial columns (its status added to `status`),
+/// `changed(length)` tests the trial against the start. 48 halvings; returns
+/// the fraction just past the event (where the new set holds), or −1 when a
+/// piece was not taken (stop_now).
+template <typename Piece, typename Changed>
+double locate_contact_event(double remaining, StepStatus& status, Piece&& piece, Changed&& changed) {
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 48; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    status |= piece(mid * remaining);
+    if (has(status, kStepNotTaken)) return -1.0;
+    (changed(mid * remaining) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
 /// Plain-mode particle–plane contacts (K = k_i, m_eff = m_i), plane by plane
 /// (so each particle receives its plane contributions in plane order). Also
 /// sums each plane's force into w.plane_force for the impulse ledger. Returns

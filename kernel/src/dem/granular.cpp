@@ -1040,13 +1040,10 @@ StepStatus located_columns(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>
       status |= StepStatus::event_capacity;
       break;
     }
-    double lo = 0.0, hi = 1.0;
-    for (int it = 0; it < 48; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      status |= piece(mid * remaining);
-      if (has(status, kStepNotTaken)) return status;
-      (contact_set_changed<D>(m, s, t0, x0, v0, t0 + mid * remaining, x1, v1) ? hi : lo) = mid;
-    }
+    const double hi = locate_contact_event(remaining, status, piece, [&](double length) {
+      return contact_set_changed<D>(m, s, t0, x0, v0, t0 + length, x1, v1);
+    });
+    if (has(status, kStepNotTaken)) return status;
     // Land just past the event, where the new set holds; the springs advance by the piece.
     const double length = hi * remaining;
     status |= piece(length);

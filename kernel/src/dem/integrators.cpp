@@ -482,14 +482,10 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
       status |= StepStatus::event_capacity;
       break;
     }
-    // Bisection for the first fraction of `remaining` at which the set changes.
-    double lo = 0.0, hi = 1.0;
-    for (int it = 0; it < 48; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      status |= piece(mid * remaining);
-      if (stop_now(status)) return status;
-      (contact_set_changed<D>(m, s, t0, x0, v0, t0 + mid * remaining, x1c, v1c) ? hi : lo) = mid;
-    }
+    const double hi = dem_detail::locate_contact_event(remaining, status, piece, [&](double length) {
+      return contact_set_changed<D>(m, s, t0, x0, v0, t0 + length, x1c, v1c);
+    });
+    if (stop_now(status)) return status;
     // Land just past the event, where the new contact set holds.
     const double length = hi * remaining;
     status |= piece(length);
