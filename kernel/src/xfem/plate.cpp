@@ -959,7 +959,7 @@ class PlateOperator {
     for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
     subtract_absorb_product(m_, v, base);
     if (m_.unilateral_points == 0) {
-      (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k);
+      (fac0 == 0.0 ? m_.mass_factor : m_.effective_factor).solve(k, ws_.solve_work.data());
       return StepStatus::ok;
     }
     const std::size_t points = m_.face_points.size();
@@ -977,7 +977,7 @@ class PlateOperator {
           if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
       }
       if (fac0 == 0.0) {  // M k = …: the acceleration does not move u
-        m_.mass_factor.solve(k);
+        m_.mass_factor.solve(k, ws_.solve_work.data());
         return StepStatus::ok;
       }
       if (ws_.active != ws_.factored_active) {
@@ -987,7 +987,7 @@ class PlateOperator {
         ws_.factor.factor(ws_.effective);
         ws_.factored_active = ws_.active;
       }
-      ws_.factor.solve(k);
+      ws_.factor.solve(k, ws_.solve_work.data());
       bool same = true;
       for (std::size_t p = 0; p < points; ++p) {
         if (!m_.face_points[p].unilateral) continue;
@@ -1946,6 +1946,15 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   workspace.u_pred.assign(nds, 0.0);
   workspace.v_pred.assign(nds, 0.0);
   workspace.rhs.assign(nds, 0.0);
+  workspace.solve_work.assign(nds, 0.0);
+  // The pattern a factor must hold beyond its matrix's nonzeros: the
+  // couplings of the unilateral face points, which a re-factor adds.
+  std::vector<std::pair<int, int>> face_pairs;
+  for (const PlateModel::FacePoint& fp : model.face_points)
+    if (fp.unilateral)
+      for (int a = 0; a < fp.terms; ++a)
+        for (int b = 0; b < a; ++b)
+          if (fp.dof[a] >= 0 && fp.dof[b] >= 0) face_pairs.emplace_back(fp.dof[a], fp.dof[b]);
   workspace.shape_start.assign(d.loads.size() + 1, 0.0);
   workspace.shape_end.assign(d.loads.size() + 1, 0.0);
   workspace.load_u_start.assign(model.load_dof.size(), 0.0);
@@ -1959,6 +1968,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
 
   if (d.analysis == PlateDesc::Analysis::statics) {
     // K u = f with every load at its amplitude (shape step: 1; none: 0).
+    model.stiffness_factor.analyse(model.stiffness, face_pairs);
     if (model.unilateral_points == 0 && (!model.stiffness_factor.factor(model.stiffness) ||
         !(model.stiffness_factor.min_pivot() > 1e-12 * model.stiffness_factor.max_pivot())))
       return BuildResult::failure(Code::invalid_argument,
@@ -1966,17 +1976,25 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                                   "a static analysis needs supports or prescribed nodes that stop %s",
                                   "translation and rotation");
     double* u = state.u.data();
-    auto solve = [&] {
-      for (std::size_t k = 0; k < nds; ++k) u[k] = model.held_force[k];
+    std::vector<double> f(nds, 0.0), r(nds, 0.0);
+    // A u = f, then one step of iterative refinement (u += A⁻¹(f − A u)): the
+    // static answer to round-off of its residual, whatever the factor's ordering.
+    auto solve = [&](const xfem::SymmetricBand& a) {
+      for (std::size_t k = 0; k < nds; ++k) f[k] = model.held_force[k];
       for (std::size_t e2 = 0; e2 < model.load_dof.size(); ++e2) {
         const int l = model.load_of[e2];
         const double s = l < 0 || d.loads[static_cast<std::size_t>(l)].shape == PlateLoadShape::step ? 1.0 : 0.0;
-        u[model.load_dof[e2]] += model.load_value[e2] * s;
+        f[static_cast<std::size_t>(model.load_dof[e2])] += model.load_value[e2] * s;
       }
-      model.stiffness_factor.solve(u);
+      for (std::size_t k = 0; k < nds; ++k) u[k] = f[k];
+      model.stiffness_factor.solve(u, workspace.solve_work.data());
+      r = f;
+      a.subtract_product(u, r.data());
+      model.stiffness_factor.solve(r.data(), workspace.solve_work.data());
+      for (std::size_t k = 0; k < nds; ++k) u[k] += r[k];
     };
     if (model.unilateral_points == 0) {
-      solve();
+      solve(model.stiffness);
     } else {
       // Unilateral faces: start with every point closed, solve, open the
       // points whose faces separate (and close those that interpenetrate),
@@ -1995,7 +2013,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                                       "supports: the plate is not held against rigid motion once its unilateral "
                                       "crack faces %s (its stiffness is singular)",
                                       "open");
-        solve();
+        solve(k_active);
         for (std::size_t p = 0; p < points; ++p)
           updated[p] = model.face_points[p].unilateral && detail::face_gap(model.face_points[p], u) < 0.0 ? 1 : 0;
         settled = updated == active;
@@ -2016,6 +2034,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
 
   // ---- dynamic: factor M and M + γΔt C + βΔt² K -------------------------------
   model.scheme = xfem::NewmarkScheme{d.beta, d.gamma, d.dt};
+  model.mass_factor.analyse(model.mass, {});
   if (!model.mass_factor.factor(model.mass))
     return BuildResult::failure(Code::invalid_argument, "cells: the mass matrix is not positive definite");
   {
@@ -2033,6 +2052,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         for (int q = 0; q < n; ++q)
           if (dof[q] <= dof[r] && c[r * n + q] != 0.0) eff.add(dof[r], dof[q], fac1 * c[r * n + q]);
     }
+    model.effective_factor.analyse(eff, face_pairs);
     if (!model.effective_factor.factor(eff))
       return BuildResult::failure(Code::invalid_argument, "dt: the effective stiffness is not positive definite");
     if (model.unilateral_points > 0) {
