@@ -9,7 +9,9 @@
 //                  back-substitution with the factor of M + βΔt²K computed at
 //                  build, the Newmark updates and the energy books; energy
 //                  check every 16 steps (the default) or off (arg check = 0).
-//   BM_PlateSolve: the back-substitution alone (BandLdlt::solve).
+//   BM_PlateSolve: the back-substitution alone: the step's (SparseLdlt::solve,
+//                  sparse:1) and a profile factor's of the same matrix
+//                  (BandLdlt::solve, sparse:0, what the step used before).
 //   BM_PlateStiffnessProduct: the step's other large term, y −= K x, over
 //                  K's profile (cells:0, SymmetricBand::subtract_product, what
 //                  the step used before) and as the step computes it (cells:1,
@@ -18,8 +20,10 @@
 //   BM_PlateBuild: build_plate(): mesh, assembly of K and M, factorisation
 //                  of M and of M + βΔt²K, the initial acceleration.
 //
-// Counters: dofs; factor_bytes, the bytes of one profile factor (its stored
-// entries, 8 bytes each, plus the 1/D diagonal and the row offsets).
+// Counters: dofs; factor_bytes and factor_nonzeros, the bytes and the
+// entries below the diagonal of the step's sparse factor
+// (SparseLdlt::bytes()); profile_factor_bytes, those of a profile factor of
+// the same matrix (its stored entries, 8 bytes each, 1/D and the row offsets).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
