@@ -9,7 +9,9 @@
 //                  back-substitution with the factor of M + βΔt²K computed at
 //                  build, the Newmark updates and the energy books; energy
 //                  check every 16 steps (the default) or off (arg check = 0).
-//   BM_PlateSolve: the back-substitution alone (BandLdlt::solve).
+//   BM_PlateSolve: the back-substitution alone: the step's (SparseLdlt::solve,
+//                  sparse:1) and a profile factor's of the same matrix
+//                  (BandLdlt::solve, sparse:0, what the step used before).
 //   BM_PlateStiffnessProduct: the step's other large term, y −= K x, over
 //                  K's profile (cells:0, SymmetricBand::subtract_product, what
 //                  the step used before) and as the step computes it (cells:1,
@@ -18,8 +20,10 @@
 //   BM_PlateBuild: build_plate(): mesh, assembly of K and M, factorisation
 //                  of M and of M + βΔt²K, the initial acceleration.
 //
-// Counters: dofs; factor_bytes, the bytes of one profile factor (its stored
-// entries, 8 bytes each, plus the 1/D diagonal and the row offsets).
+// Counters: dofs; factor_bytes and factor_nonzeros, the bytes and the
+// entries below the diagonal of the step's sparse factor
+// (SparseLdlt::bytes()); profile_factor_bytes, those of a profile factor of
+// the same matrix (its stored entries, 8 bytes each, 1/D and the row offsets).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -54,9 +58,10 @@ xfdem::PlateDesc plate(int nx, int ny, int energy_interval) {
   return d;
 }
 
-/// Bytes of one factor of the model's profile: the stored lower triangle
-/// (row i from first_column(i) to i), 1/D and the row offsets.
-double factor_bytes(const xfdem::PlateModel& m) {
+/// Bytes of a profile factor of the model's profile (what the step used
+/// before): the stored lower triangle (row i from first_column(i) to i), 1/D
+/// and the row offsets.
+double profile_factor_bytes(const xfdem::PlateModel& m) {
   const xfdem::xfem::SymmetricBand& p = m.mass;
   double entries = 0.0;
   for (int i = 0; i < p.size(); ++i) entries += static_cast<double>(i - p.first_column(i) + 1);
@@ -72,7 +77,9 @@ bool build_or_skip(benchmark::State& bench, const xfdem::PlateDesc& d, xfdem::Pl
 
 void counters(benchmark::State& bench, const xfdem::PlateModel& m) {
   bench.counters["dofs"] = m.dofs;
-  bench.counters["factor_bytes"] = factor_bytes(m);
+  bench.counters["factor_bytes"] = m.effective_factor.bytes();
+  bench.counters["factor_nonzeros"] = static_cast<double>(m.effective_factor.nonzeros());
+  bench.counters["profile_factor_bytes"] = profile_factor_bytes(m);
 }
 
 // Args: nx, ny, energy check interval (0: off, 16: the default).
@@ -90,7 +97,8 @@ void BM_PlateStep(benchmark::State& bench) {
   bench.SetItemsProcessed(bench.iterations());
 }
 
-// Args: nx, ny.
+// Args: nx, ny, sparse (1: the step's SparseLdlt, 0: a BandLdlt of the
+// same matrix over its profile, what the step used before).
 void BM_PlateSolve(benchmark::State& bench) {
   xfdem::PlateModel m;
   xfdem::PlateState st;
@@ -98,11 +106,27 @@ void BM_PlateSolve(benchmark::State& bench) {
   if (!build_or_skip(bench, plate(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)), 16), m, st, ws))
     return;
   for (int i = 0; i < 100; ++i) xfdem::plate_step(m, st, ws);
-  std::vector<double> x = st.a;
+  const bool sparse = bench.range(2) != 0;
+  xfdem::xfem::BandLdlt band;
+  if (!sparse) {
+    // M + βΔt²K over the profile (the plate has no dashpots).
+    xfdem::xfem::SymmetricBand eff = m.mass;
+    const double fac0 = m.scheme.fac0();
+    for (int i = 0; i < m.dofs; ++i)
+      for (int j = m.mass.first_column(i); j <= i; ++j) eff.add(i, j, fac0 * m.stiffness.get(i, j));
+    if (!band.factor(eff)) {
+      bench.SkipWithError("profile factor failed");
+      return;
+    }
+  }
+  std::vector<double> x = st.a, work(st.a.size(), 0.0);
   for (auto _ : bench) {
     // The same right-hand side every time (the copy is a small share of a solve).
     for (std::size_t k = 0; k < x.size(); ++k) x[k] = st.a[k];
-    m.effective_factor.solve(x.data());
+    if (sparse)
+      m.effective_factor.solve(x.data(), work.data());
+    else
+      band.solve(x.data());
     benchmark::DoNotOptimize(x.data());
   }
   counters(bench, m);
@@ -162,6 +186,6 @@ void sizes(benchmark::internal::Benchmark* b, std::initializer_list<int> third) 
 }  // namespace
 
 BENCHMARK(BM_PlateStep)->ArgNames({"nx", "ny", "check"})->Apply([](auto* b) { sizes(b, {16, 0}); });
-BENCHMARK(BM_PlateSolve)->ArgNames({"nx", "ny"})->Apply([](auto* b) { sizes(b, {}); });
+BENCHMARK(BM_PlateSolve)->ArgNames({"nx", "ny", "sparse"})->Apply([](auto* b) { sizes(b, {1, 0}); });
 BENCHMARK(BM_PlateStiffnessProduct)->ArgNames({"nx", "ny", "cells"})->Apply([](auto* b) { sizes(b, {0, 1}); });
 BENCHMARK(BM_PlateBuild)->ArgNames({"nx", "ny"})->Unit(benchmark::kMicrosecond)->Apply([](auto* b) { sizes(b, {}); });

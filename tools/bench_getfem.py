@@ -2,7 +2,7 @@
 """The plate's step and build side by side with GetFEM (docs/benchmarks.md, "2D plate").
 
     /usr/bin/python3 tools/bench_getfem.py [--build build/release] [--repetitions 5]
-        [--png out/plate_step_cost.png] [--case uncut]
+        [--png out/plate_step_cost.png] [--case uncut] [--before OTHER/xfdem_bench]
 
 Both sides solve the plate of scenes/plate_tension.json (steel, plane stress,
 t = 0.02 m, 2 m x 1 m, rollers on the left (x) and bottom (y) edges, a step
@@ -12,7 +12,12 @@ factored once and one back-substitution per step:
 
   xfdem:  bench/bm_plate.cpp through build/release/bench/xfdem_bench
           (BM_PlateStep, BM_PlateSolve, BM_PlateBuild), medians of
-          --repetitions Google Benchmark runs (CPU time);
+          --repetitions Google Benchmark runs (CPU time); the factor is the
+          sparse LDL^T on Eigen's AMD ordering (xfem::SparseLdlt), and
+          BM_PlateSolve/.../sparse:0 times a profile LDL^T of the same matrix
+          (what the step used before). --before runs another build's
+          xfdem_bench (e.g. one built from the previous commit) in the same
+          run and prints its BM_PlateStep next to this one's;
   GetFEM: its Python interface (Debian's python3-getfem 5.4): FEM_QK(2,1) on
           a cartesian mesh, 2 x 2 Gauss, K, M and the traction by the generic
           assembly, the held components removed; M + beta dt^2 K factored once
@@ -212,6 +217,7 @@ def main():
     parser.add_argument("--repetitions", type=int, default=5)
     parser.add_argument("--png", default="out/plate_step_cost.png")
     parser.add_argument("--case", default="uncut", choices=["uncut", "tied_cut"])
+    parser.add_argument("--before", default=None, help="another build's xfdem_bench, timed in the same run")
     args = parser.parse_args()
     if args.case != "uncut":
         sys.exit("bench_getfem.py: --case tied_cut: the GetFEM side of the tied, level-set-cut plate is not "
@@ -239,7 +245,7 @@ def main():
     for nx, ny in SIZES:
         step = ours[f"BM_PlateStep/nx:{nx}/ny:{ny}/check:16"]
         step_nocheck = ours[f"BM_PlateStep/nx:{nx}/ny:{ny}/check:0"]
-        solve = ours[f"BM_PlateSolve/nx:{nx}/ny:{ny}"]
+        solve = ours[f"BM_PlateSolve/nx:{nx}/ny:{ny}/sparse:1"]
         build = ours[f"BM_PlateBuild/nx:{nx}/ny:{ny}"]
         p = build_getfem(gf, nx, ny)
         assert p.n == int(step["dofs"]), (p.n, step["dofs"])
@@ -266,14 +272,27 @@ def main():
     print("\nratio: xfdem / GetFEM (the goal: <= 0.2 for the step)")
 
     print("\nwhere the xfdem step goes (y -= K x over K's profile, as the step did it before, and cell by cell, as it does now):\n")
-    print("| cells | step | back-substitution | K x, profile | K x, cell by cell |")
-    print("|---|---:|---:|---:|---:|")
+    print("| cells | step | back-substitution, sparse | back-substitution, profile | K x, profile | K x, cell by cell |")
+    print("|---|---:|---:|---:|---:|---:|")
     for nx, ny in SIZES:
         cell = f"nx:{nx}/ny:{ny}"
         print(f"| {nx} x {ny} | {seconds_text(ours[f'BM_PlateStep/{cell}/check:16']['cpu_s'])} "
-              f"| {seconds_text(ours[f'BM_PlateSolve/{cell}']['cpu_s'])} "
+              f"| {seconds_text(ours[f'BM_PlateSolve/{cell}/sparse:1']['cpu_s'])} "
+              f"| {seconds_text(ours[f'BM_PlateSolve/{cell}/sparse:0']['cpu_s'])} "
               f"| {seconds_text(ours[f'BM_PlateStiffnessProduct/{cell}/cells:0']['cpu_s'])} "
               f"| {seconds_text(ours[f'BM_PlateStiffnessProduct/{cell}/cells:1']['cpu_s'])} |")
+
+    if args.before:
+        before = xfdem_medians(args.before, args.repetitions)
+        print(f"\nthe same run, BM_PlateStep of {args.before} (before) and of {bench} (after):\n")
+        print("| cells | step before | step after | no check, before | no check, after | GetFEM step | ratio before | ratio after |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|")
+        for (nx, ny), r in zip(SIZES, plot):
+            b16 = before[f"BM_PlateStep/nx:{nx}/ny:{ny}/check:16"]["cpu_s"]
+            b0 = before[f"BM_PlateStep/nx:{nx}/ny:{ny}/check:0"]["cpu_s"]
+            a0 = ours[f"BM_PlateStep/nx:{nx}/ny:{ny}/check:0"]["cpu_s"]
+            print(f"| {nx} x {ny} | {seconds_text(b16)} | {seconds_text(r[1])} | {seconds_text(b0)} | {seconds_text(a0)} "
+                  f"| {seconds_text(r[3])} | {b16 / r[3]:.2f} | {r[1] / r[3]:.2f} |")
 
     import matplotlib
     matplotlib.use("Agg")
@@ -281,7 +300,9 @@ def main():
     n = np.array([r[0] for r in plot], dtype=float)
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.loglog(n, [r[1] for r in plot], "o-", label="xfdem step")
-    ax.loglog(n, [r[2] for r in plot], "o--", label="xfdem back-substitution")
+    ax.loglog(n, [r[2] for r in plot], "o--", label="xfdem back-substitution (sparse)")
+    ax.loglog(n, [ours[f"BM_PlateSolve/nx:{nx}/ny:{ny}/sparse:0"]["cpu_s"] for nx, ny in SIZES], "^:",
+              label="xfdem profile back-substitution (before)")
     ax.loglog(n, [r[3] for r in plot], "s-", label="GetFEM step")
     ax.loglog(n, [r[4] for r in plot], "s--", label="GetFEM back-substitution")
     ref = plot[0][1] * (n / n[0]) ** 1.5

@@ -1,7 +1,9 @@
 // The 2D continuum: an elastic plate (a plane-strain or plane-stress slice of
 // thickness t) on a rectangle, meshed with a structured grid of bilinear quads
 // (Q4), consistent mass, integrated in time with Newmark GN22 through the same
-// xfem::newmark_step() and profile LDLᵀ as the bar, or solved once (static).
+// xfem::newmark_step() as the bar (its matrices assembled in the bar's profile
+// storage, factored by a sparse LDLᵀ on a fill-reducing ordering), or solved
+// once (static).
 // docs/xfem2d.md gives the formulation. Discontinuities (PlateDiscontinuity)
 // are given by geometry that ignores the mesh: cracks that cut through the
 // whole plate or end inside it (shifted-Heaviside enrichment; faces free, or
@@ -174,9 +176,10 @@ struct PlateModel {
   xfem::SymmetricBand stiffness;  ///< K on the unknowns
   std::vector<double> mass_row_sums;  ///< M·1 (the net force 1ᵀMa the integrator sums)
   xfem::NewmarkScheme scheme;
-  xfem::BandLdlt mass_factor;       ///< M (initial acceleration), dynamic
-  xfem::BandLdlt effective_factor;  ///< M + γΔt C + βΔt² K, dynamic
-  xfem::BandLdlt stiffness_factor;  ///< K, static
+  /// Sparse LDLᵀ on a minimum-degree ordering fixed at build (xfem::SparseLdlt).
+  xfem::SparseLdlt mass_factor;       ///< M (initial acceleration), dynamic
+  xfem::SparseLdlt effective_factor;  ///< M + γΔt C + βΔt² K, dynamic
+  xfem::SparseLdlt stiffness_factor;  ///< K, static
   /// The 8×8 element stiffness and mass (all cells of the structured grid are
   /// the same rectangle), row-major, unknowns (x0, y0, x1, y1, x2, y2, x3, y3)
   /// with nodes counter-clockwise from the lower left.
@@ -295,6 +298,7 @@ struct PlateState {
 /// Scratch of a step, sized at build.
 struct PlateWorkspace {
   std::vector<double> u_pred, v_pred, rhs;
+  std::vector<double> solve_work;  ///< scratch of the factors' solves
   std::vector<double> shape_start, shape_end;       ///< each load's shape at t_n and t_{n+1}
   std::vector<double> load_u_start;                 ///< u at each load entry's unknown, at t_n
   std::vector<double> damper_u_start, damper_v_start;
@@ -305,7 +309,7 @@ struct PlateWorkspace {
   /// and the effective matrix and its factor for it (sized at build).
   std::vector<char> active, factored_active;
   xfem::SymmetricBand effective;
-  xfem::BandLdlt factor;
+  xfem::SparseLdlt factor;
   /// The energy rule of unilateral faces (docs/xfem2d.md): the state the
   /// step started from, the points held closed when a step is redone, and
   /// its books: steps redone with openings held, energy taken out of the

@@ -18,6 +18,7 @@
 // inner loops one to three long. Wider profiles (the plate's) take the general
 // loops.
 #pragma once
+#include <utility>
 #include <vector>
 
 namespace xfdem::xfem {
@@ -99,6 +100,70 @@ class BandLdlt {
   std::vector<double> d_inv_;  // 1/D_ii of A
   std::vector<double> scale_;  // scratch of factor(): 1/√A_ii
   std::vector<double> pivots_; // scratch of factor(): D of the scaled matrix
+};
+
+/// LDLᵀ of a symmetric positive definite matrix on a fill-reducing ordering
+/// (Eigen's approximate minimum degree, AMDOrdering), in compressed columns
+/// whose pattern is fixed by analyse(): the plate's factor. A profile factor
+/// of a plate of n unknowns stores O(n^{3/2}) entries; on this ordering L
+/// stores 0.69 as many at 10⁴ unknowns (docs/benchmarks.md, "2D plate").
+///
+/// Eigen's SimplicialLDLT allocates in factorize() (the permuted copy of the
+/// matrix, and its scratch), so the numeric factor here is the up-looking
+/// LDLᵀ of Eigen's SimplicialLDLT (Davis' LDL) into storage sized by
+/// analyse(): factor() and solve() never allocate, and a re-factor of a
+/// matrix on the same pattern (the plate's active-set changes) does it inside
+/// a step. Computed on the Jacobi scaling, folded back, as BandLdlt. One
+/// thread, a fixed order of operations: the same bits every run.
+class SparseLdlt {
+ public:
+  /// The pattern: the nonzeros of `a` (lower triangle) and the pairs `extra`
+  /// (i, j), entries that a later matrix may hold where `a` is zero; the
+  /// ordering; L's pattern (elimination tree and column counts). Allocates.
+  /// The ordering is computed on a's nonzeros alone (`extra` does not move it).
+  void analyse(const SymmetricBand& a, const std::vector<std::pair<int, int>>& extra);
+  /// Factors a, whose nonzeros must lie in the analysed pattern (its entries
+  /// outside it are not read). No allocation. Returns false (the factor is
+  /// then unusable) if a diagonal entry or a pivot is not positive.
+  bool factor(const SymmetricBand& a);
+  /// x ← A⁻¹ x; `work` holds size() doubles (scratch). No allocation.
+  void solve(double* x, double* work) const;
+  [[nodiscard]] int size() const { return n_; }
+  [[nodiscard]] bool ready() const { return ready_; }
+  /// Stored entries of L below the diagonal.
+  [[nodiscard]] int supernodes() const { return static_cast<int>(sn_first_.size()) - 1; }
+  [[nodiscard]] long nonzeros() const { return static_cast<long>(l_row_.size()); }
+  /// Bytes of the factor a solve reads: L's values, the supernodes' row
+  /// indices and column starts, 1/D and the ordering.
+  [[nodiscard]] double bytes() const;
+  /// Smallest and largest pivot of the scaled factorisation (as BandLdlt's).
+  [[nodiscard]] double min_pivot() const { return min_pivot_; }
+  [[nodiscard]] double max_pivot() const { return max_pivot_; }
+  /// The ordering: unknown i is row perm(i) of the factored matrix P A Pᵀ.
+  [[nodiscard]] int perm(int i) const { return perm_[static_cast<std::size_t>(i)]; }
+
+ private:
+  bool ready_ = false;
+  int n_ = 0;
+  double min_pivot_ = 0.0;
+  double max_pivot_ = 0.0;
+  std::vector<int> perm_;  // original → permuted
+  // P A Pᵀ's upper triangle by columns (column k: rows ≤ k, the diagonal
+  // included), and where each value comes from in the original numbering.
+  std::vector<int> a_start_, a_row_, a_orig_row_, a_orig_col_;
+  std::vector<double> a_value_;
+  // L by columns, unit diagonal not stored; the elimination tree.
+  std::vector<int> l_start_, l_row_, parent_;
+  // The solve's view of L: supernodes, runs of at most kMaxSupernode
+  // consecutive columns f..l where column c's rows are c + 1 .. l then the
+  // rows of column l (stored once, at sn_rows_[sn_row_start_[s]…]): the
+  // solve reads one row index per row of a supernode, not per entry.
+  static constexpr int kMaxSupernode = 8;
+  std::vector<int> sn_first_, sn_row_start_, sn_rows_;
+  std::vector<double> l_value_, d_inv_;
+  // Scratch of factor().
+  std::vector<int> flag_, pattern_, count_;
+  std::vector<double> y_, scale_, pivots_;
 };
 
 }  // namespace xfdem::xfem
