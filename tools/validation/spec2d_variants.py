@@ -444,7 +444,16 @@ def cases_rest():
                 sc["output"]["every"] = 100 * dt
                 out = run(sc)
         except CliError as e:
-            report(name + " runs", 1.0, 0.0, str(e))
+            # is it the friction? the same scene without it, printed only
+            bare = json.loads(json.dumps(sc))
+            for k_ in ("friction", "rolling_friction", "tangential_stiffness_ratio"):
+                bare["dem"]["contact"].pop(k_, None)
+            try:
+                run(bare, name=name + "_frictionless")
+                also = "; without friction it runs"
+            except CliError as e2:
+                also = "; without friction: " + str(e2).split(": ", 1)[1][:120]
+            report(name + " runs", 1.0, 0.0, str(e) + also)
             continue
         SCENES_COUPLED.append(sc)
         Fn, Ft = out["F"][-1], out["Ft"][-1]
@@ -495,7 +504,8 @@ def cases_rest():
         drift_u = abs(out["uy"][-1] - out["uy"][-2])
         report(f"{name} at rest", drift_u / abs(uyX), 1e-7,
                f"u_y(xc) moved over the last 100 steps, / |u|; disk v_x {out['vx'][-1]:.1e} m/s, "
-               f"omega r {out['w'][-1] * r:.1e} m/s", name)
+               f"omega r {out['w'][-1] * r:.1e} m/s, |F_t| / (mu F_n) {abs(Ft) / (contact['friction'] * Fn):.1e}",
+               name)
         report(f"{name} u_y(xc) = static", abs(out["uy"][-1] - ref["uyc"][0]), tol,
                f"static CLI run, load at X = xc {X - xc:+.1e} m; 2 slope d (d {d:.1e} m) + 1e-6 |u| "
                f"(drift {drift_u:.1e} m)", name)
