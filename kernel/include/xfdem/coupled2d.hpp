@@ -114,8 +114,10 @@ inline constexpr double kCoupled2dTolerance = 1e-10;
 /// step on the rest.
 inline constexpr int kCoupled2dHistory = 16;
 /// A pass whose residual is this many times the window's best so far drops
-/// the quasi-Newton history and starts again from the best pass.
-inline constexpr double kCoupled2dRestartGrowth = 10.0;
+/// the quasi-Newton history and starts again from the best pass (a growth
+/// of 10 or so is still a quasi-Newton step on its way; restarting there
+/// cycled the 1D Case I column under rk4).
+inline constexpr double kCoupled2dRestartGrowth = 100.0;
 /// A contact that closes or opens at another substep (or stage) as f̄ moves
 /// makes J jump: no force may be a fixed point. Where two passes lie on the
 /// two sides of such a jump, close enough that the blend of their residuals,
@@ -130,10 +132,16 @@ inline constexpr double kCoupled2dRestartGrowth = 10.0;
 /// (Coupled2dState::unsettled_windows, worst_unsettled); above
 /// kCoupled2dJumpTolerance the step also says coupling_unstable. The plate
 /// still takes exactly the disks' impulse; what is not exact there is the
-/// boundary motion the disks saw, off by the plate's response to g.
+/// boundary motion the disks saw, off by the plate's response to g. Several
+/// contacts switching at other substeps in one window (a jump in several
+/// directions at once, which no blend of two passes closes) leave residuals
+/// of 1e-5 to 1e-4 of the force (a frictional free plate, verlet: 8.5e-5):
+/// an error of the boundary's motion within one window far below the
+/// step's own, so such a window goes on, counted, and only a residual
+/// above 1e-3 of the force stops the run.
 inline constexpr int kCoupled2dStallPasses = 6;
 inline constexpr int kCoupled2dMaxPasses = 100;
-inline constexpr double kCoupled2dJumpTolerance = 1e-6;
+inline constexpr double kCoupled2dJumpTolerance = 1e-3;
 
 /// The tangential springs of the disk–boundary contacts: kPlateBoundaryMaxContacts
 /// slots per disk (slot i·K + k), as many as a disk can have contacts, so
@@ -242,6 +250,7 @@ struct Coupled2dWorkspace {
     double force[2] = {0, 0};  ///< on the plate, × the evaluation's weight
     double work = 0;           ///< weight × F·V, taken from the book
     int couple_segment = -1;   ///< a rolling couple's segment (−1: none)
+    int couple_partner = -1;   ///< a blended contact's second segment (the couple shared as at_share)
     double couple = 0, couple_work = 0;
   };
   std::vector<PlateShare> shares;

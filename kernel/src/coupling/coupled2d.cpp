@@ -85,7 +85,7 @@ int boundary_contact_forces(const Coupled2dModel& m, const Coupled2dWorkspace& w
     share.points = plate_boundary_material_points(m.boundary, contacts[c], share.at, share.at_share);
     share.force[0] = -scale * on_disk[0], share.force[1] = -scale * on_disk[1];
     share.work = scale * (on_disk[0] * speed[0] + on_disk[1] * speed[1]);
-    share.couple_segment = -1;
+    share.couple_segment = share.couple_partner = -1;
   }
   return carried;
 }
@@ -140,7 +140,12 @@ void spread_shares(const Coupled2dModel& m, const Coupled2dWorkspace& w, double*
       }
       if (share->couple_segment < 0) continue;
       work += share->couple_work;
-      spread_couple(m.plate, m.boundary, share->couple_segment, share->couple, plate);
+      if (share->couple_partner < 0) {
+        spread_couple(m.plate, m.boundary, share->couple_segment, share->couple, plate);
+      } else {  // a blended contact's couple, shared by its two edges as its force is
+        spread_couple(m.plate, m.boundary, share->couple_segment, share->at_share[0] * share->couple, plate);
+        spread_couple(m.plate, m.boundary, share->couple_partner, share->at_share[1] * share->couple, plate);
+      }
     }
   }
 }
@@ -286,7 +291,12 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     contact_velocity(m.boundary, w, ct, m.dt, wall.velocity);
     wall.normal[0] = ct.normal[0], wall.normal[1] = ct.normal[1];
     wall.speed = wall.velocity[0] * ct.normal[0] + wall.velocity[1] * ct.normal[1];
-    const double spin = segment_spin(m.boundary, w, ct.segment, m.dt);
+    // The boundary's spin there; a blended contact's is the blend of its two
+    // edges' (at a node that the plate bends, the two turn apart, and the
+    // nearer edge's alone would jump as the contact moves across).
+    const double spin = ct.partner < 0 ? segment_spin(m.boundary, w, ct.segment, m.dt)
+                                       : (1.0 - ct.partner_weight) * segment_spin(m.boundary, w, ct.segment, m.dt) +
+                                             ct.partner_weight * segment_spin(m.boundary, w, ct.partner, m.dt);
     wall.spin = &spin;
     segment_compliance(m, ct.segment, wall.inv_e, wall.inv_g);
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
@@ -306,9 +316,10 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     share.points = plate_boundary_material_points(m.boundary, ct, share.at, share.at_share);
     share.force[0] = -scale * on_disk[0], share.force[1] = -scale * on_disk[1];
     share.work = scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
-    share.couple_segment = -1;
+    share.couple_segment = share.couple_partner = -1;
     if (r.torque_i[0] != 0.0) {
       share.couple_segment = ct.segment;
+      share.couple_partner = ct.partner;
       share.couple = scale * r.torque_i[0];
       share.couple_work = scale * r.torque_i[0] * spin;
     }
