@@ -1,5 +1,5 @@
-// The uncut plate's step and build (docs/benchmarks.md, "2D plate"): the
-// plate of scenes/plate_tension.json (steel, plane stress, 2 m × 1 m, rollers
+// The plate's step and build, uncut and with a tied cut (docs/benchmarks.md,
+// "2D plate"): the plate of scenes/plate_tension.json (steel, plane stress, 2 m × 1 m, rollers
 // on the left and bottom edges, a step traction on the right edge), Newmark
 // (¼, ½), on 10 × 4, 32 × 16 and 100 × 50 cells (94, 1072 and 10150
 // unknowns; each has a node at the right edge's middle, which the GetFEM
@@ -19,6 +19,11 @@
 //                  8 × 8 element stiffness, touching only the nonzeros).
 //   BM_PlateBuild: build_plate(): mesh, assembly of K and M, factorisation
 //                  of M and of M + βΔt²K, the initial acceleration.
+//   BM_PlateTiedCutStep: plate_step() as BM_PlateStep on the plate of
+//                  scenes/plate_crack.json: the same plate with a tied crack
+//                  at x = 1.03 across it (cut by its level set, off the
+//                  mesh's lines at every size; Heaviside unknowns on the cut
+//                  cells' nodes, penalty k = 1e13 Pa/m normal and tangential).
 //
 // Counters: dofs; factor_bytes and factor_nonzeros, the bytes and the
 // entries below the diagonal of the step's sparse factor
@@ -58,6 +63,20 @@ xfdem::PlateDesc plate(int nx, int ny, int energy_interval) {
   return d;
 }
 
+/// The plate with scenes/plate_crack.json's tied crack across it.
+xfdem::PlateDesc tied_cut_plate(int nx, int ny, int energy_interval) {
+  xfdem::PlateDesc d = plate(nx, ny, energy_interval);
+  xfdem::PlateDiscontinuity crack;
+  crack.name = "joint";
+  crack.kind = xfdem::PlateDiscontinuity::Kind::crack;
+  crack.points = {{1.03, -0.1}, {1.03, 1.1}};
+  crack.faces = xfdem::PlateDiscontinuity::Faces::tied;
+  crack.stiffness[0] = 1e13;
+  crack.stiffness[1] = 1e13;
+  d.discontinuities.push_back(crack);
+  return d;
+}
+
 /// Bytes of a profile factor of the model's profile (what the step used
 /// before): the stored lower triangle (row i from first_column(i) to i), 1/D
 /// and the row offsets.
@@ -82,13 +101,14 @@ void counters(benchmark::State& bench, const xfdem::PlateModel& m) {
   bench.counters["profile_factor_bytes"] = profile_factor_bytes(m);
 }
 
-// Args: nx, ny, energy check interval (0: off, 16: the default).
-void BM_PlateStep(benchmark::State& bench) {
+/// plate_step() from a warm state (100 steps from rest) on the plate `make`
+/// builds from the arguments nx, ny and the energy check interval.
+void time_step(benchmark::State& bench, xfdem::PlateDesc (*make)(int, int, int)) {
   xfdem::PlateModel m;
   xfdem::PlateState st;
   xfdem::PlateWorkspace ws;
-  if (!build_or_skip(bench, plate(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)),
-                                  static_cast<int>(bench.range(2))),
+  if (!build_or_skip(bench, make(static_cast<int>(bench.range(0)), static_cast<int>(bench.range(1)),
+                                 static_cast<int>(bench.range(2))),
                      m, st, ws))
     return;
   for (int i = 0; i < 100; ++i) xfdem::plate_step(m, st, ws);
@@ -96,6 +116,12 @@ void BM_PlateStep(benchmark::State& bench) {
   counters(bench, m);
   bench.SetItemsProcessed(bench.iterations());
 }
+
+// Args: nx, ny, energy check interval (0: off, 16: the default).
+void BM_PlateStep(benchmark::State& bench) { time_step(bench, plate); }
+
+// Args: nx, ny, energy check interval (0: off, 16: the default).
+void BM_PlateTiedCutStep(benchmark::State& bench) { time_step(bench, tied_cut_plate); }
 
 // Args: nx, ny, sparse (1: the step's SparseLdlt, 0: a BandLdlt of the
 // same matrix over its profile, what the step used before).
@@ -186,6 +212,7 @@ void sizes(benchmark::internal::Benchmark* b, std::initializer_list<int> third) 
 }  // namespace
 
 BENCHMARK(BM_PlateStep)->ArgNames({"nx", "ny", "check"})->Apply([](auto* b) { sizes(b, {16, 0}); });
+BENCHMARK(BM_PlateTiedCutStep)->ArgNames({"nx", "ny", "check"})->Apply([](auto* b) { sizes(b, {16, 0}); });
 BENCHMARK(BM_PlateSolve)->ArgNames({"nx", "ny", "sparse"})->Apply([](auto* b) { sizes(b, {1, 0}); });
 BENCHMARK(BM_PlateStiffnessProduct)->ArgNames({"nx", "ny", "cells"})->Apply([](auto* b) { sizes(b, {0, 1}); });
 BENCHMARK(BM_PlateBuild)->ArgNames({"nx", "ny"})->Unit(benchmark::kMicrosecond)->Apply([](auto* b) { sizes(b, {}); });

@@ -2,7 +2,7 @@
 """The plate's step and build side by side with GetFEM (docs/benchmarks.md, "2D plate").
 
     /usr/bin/python3 tools/bench_getfem.py [--build build/release] [--repetitions 5]
-        [--png out/plate_step_cost.png] [--case uncut] [--before OTHER/xfdem_bench]
+        [--png out/plate_step_cost.png] [--case uncut|tied_cut] [--before OTHER/xfdem_bench]
 
 Both sides solve the plate of scenes/plate_tension.json (steel, plane stress,
 t = 0.02 m, 2 m x 1 m, rollers on the left (x) and bottom (y) edges, a step
@@ -38,11 +38,28 @@ build / assembly, the ratios xfdem / GetFEM, the bytes of xfdem's profile
 factor and of SuperLU's L and U) and writes the cost model's log-log plot (per-step cost against
 unknowns) to --png.
 
---case: only `uncut` exists. The issue's final comparison is the plate with a
-tied interface cut by a level set (`tied_cut`). The plate has tied cracks
-(scenes/plate_crack.json), but this script's GetFEM side of it (an XFem or a
-level-set-cut mesh_fem with the same penalty on the interface, and a check
-that both codes agree) is not written: the script names the case and refuses it.
+--case tied_cut: the same plate with scenes/plate_crack.json's tied crack
+(x = 1.03, across the whole plate, off the mesh's lines at every size; faces
+tied by k_n = k_t = 1e13 Pa/m, traction k [u] per unit area):
+
+  xfdem:  BM_PlateTiedCutStep (bench/bm_plate.cpp), Heaviside unknowns on the
+          nodes of the cut cells, the penalty t k [u].[v] on the crack;
+  GetFEM: a level set x - 1.03 (LevelSet, MeshLevelSet), the Q4 space
+          enriched where it cuts (MeshFem('levelset'): the same span as
+          xfdem's standard + Heaviside unknowns), the cut cells integrated on
+          their sub-triangles (MeshIm('levelset', ..., 'all', IM_TRIANGLE(6)),
+          exact for the products), the penalty by the generic assembly on the
+          level set ('boundary(a)', Xfem_plus(u) - Xfem_minus(u)); the step
+          and the factor as the uncut case's.
+
+Before timing, both solve the plate at every size, statically (K u = f) and
+for 200 steps from rest, and compare u_x at (2, 0.5), the opening and the
+sliding at (1.03, 0.5) (xfdem through its command line and the scene's
+probes); the script stops without timing if any differs by more than
+TIED_CUT_TOLERANCE relative. Then one table: xfdem's step (medians of
+--repetitions, energy check every 16 steps and off), GetFEM's, their ratio
+and whether the step is <= 1/5 of GetFEM's; the load average at the start and
+end of the timing. --png and --before apply to the uncut case only.
 
 Needs: python3-getfem (`apt-get install python3-getfem`), numpy, scipy,
 matplotlib (Debian's python3-numpy, python3-scipy, python3-matplotlib).
@@ -60,6 +77,9 @@ LX, LY = 2.0, 1.0
 TRACTION = 1e6
 DT, BETA, GAMMA = 1e-5, 0.25, 0.5
 CHECK_STEPS = 200
+# scenes/plate_crack.json's tied crack: x = 1.03 across the plate, k = (k_n, k_t).
+CRACK_X = 1.03
+CRACK_K = (1e13, 1e13)
 UNIT_NS = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}
 
 
@@ -74,15 +94,40 @@ def import_getfem():
 
 
 class GetfemPlate:
-    """The plate in GetFEM, reduced to its free unknowns, factored once."""
+    """The plate in GetFEM, reduced to its free unknowns, factored once.
 
-    def __init__(self, gf, nx, ny):
+    cut: the tied crack of scenes/plate_crack.json (x = CRACK_X across the
+    whole plate, faces tied by CRACK_K) by GetFEM's level set: a level set
+    x - CRACK_X, the Q4 space enriched where it cuts (MeshFem('levelset'): each
+    node whose support is cut gets a second function, discontinuous across the
+    level set, so the span is xfdem's standard + Heaviside unknowns), the cut
+    cells integrated on their sub-triangles (IM_TRIANGLE(6): exact for the
+    biquadratic products), the penalty t k [u].[v] on the level set
+    (Xfem_plus - Xfem_minus, 'boundary(a)')."""
+
+    def __init__(self, gf, nx, ny, cut=False):
         import numpy as np
         self.np = np
+        self.gf = gf
         mesh = gf.Mesh("cartesian", np.linspace(0.0, LX, nx + 1), np.linspace(0.0, LY, ny + 1))
-        mf = gf.MeshFem(mesh, 2)
-        mf.set_fem(gf.Fem("FEM_QK(2,1)"))
-        mim = gf.MeshIm(mesh, gf.Integ("IM_GAUSS_PARALLELEPIPED(2,2)"))
+        if cut:
+            ls = gf.LevelSet(mesh, 1, f"x-{CRACK_X!r}")
+            mls = gf.MeshLevelSet(mesh)
+            mls.add(ls)
+            mls.adapt()
+            scalar = gf.MeshFem(mesh, 1)
+            scalar.set_fem(gf.Fem("FEM_QK(2,1)"))
+            mf = gf.MeshFem("levelset", mls, scalar)
+            mf.set_qdim(2)
+            mim = gf.MeshIm("levelset", mls, "all", gf.Integ("IM_TRIANGLE(6)"))
+            mim.set_integ(gf.Integ("IM_GAUSS_PARALLELEPIPED(2,2)"))  # the uncut cells
+            mim_faces = gf.MeshIm("levelset", mls, "boundary(a)", gf.Integ("IM_TRIANGLE(6)"))
+            self.keep = (mesh, ls, mls, scalar)  # mf is invalid once these are freed
+        else:
+            mf = gf.MeshFem(mesh, 2)
+            mf.set_fem(gf.Fem("FEM_QK(2,1)"))
+            mim = gf.MeshIm(mesh, gf.Integ("IM_GAUSS_PARALLELEPIPED(2,2)"))
+        self.mf = mf
         right = 1
         mesh.set_region(right, mesh.outer_faces_with_direction([1.0, 0.0], 0.01))
         lam = E * NU / ((1 + NU) * (1 - 2 * NU))
@@ -98,17 +143,34 @@ class GetfemPlate:
         k_all = gf.asm_generic(mim, 2, "t*(lambda*Div(u)*Div(Test_u) + 2*mu*Sym(Grad(u)):Grad(Test_u))", -1, md)
         m_all = gf.asm_generic(mim, 2, "t*rho*u.Test_u", -1, md)
         f_all = gf.asm_generic(mim, 1, "t*trac.Test_u", right, md)
-        # Basic dofs come node by node, x then y (Qdim 2 on a Lagrange element).
+        if cut:
+            # xfdem's tied faces: traction k [u] per unit area, k = (k_n, k_t)
+            # along the level set's normal and its tangent (docs/xfem2d.md).
+            md.add_initialized_data("kn", [CRACK_K[0]])
+            md.add_initialized_data("kt", [CRACK_K[1]])
+            md.add_macro("jump(a)", "Xfem_plus(a)-Xfem_minus(a)")
+            md.add_macro("tang(a)", "a-(a.Normal)*Normal")
+            faces = gf.asm_generic(
+                mim_faces, 2,
+                "t*(kn*(jump(u).Normal)*(jump(Test_u).Normal) + kt*tang(jump(u)).tang(jump(Test_u)))", -1, md)
+            k_all = gf.Spmat("add", k_all, faces)
+            self.face_length = gf.asm_generic(mim_faces, 0, "1", -1, md)
+        # Basic dofs come node by node, x then y (Qdim 2; the level set's
+        # enriched functions too, at their node).
         nodes = mf.basic_dof_nodes()
         eps = 1e-9
+        assert all(nodes[0, k] == nodes[0, k + 1] and nodes[1, k] == nodes[1, k + 1]
+                   for k in range(0, mf.nbdof(), 2))
         free = [k for k in range(mf.nbdof())
                 if not ((k % 2 == 0 and nodes[0, k] < eps) or (k % 2 == 1 and nodes[1, k] < eps))]
+        self.free = free
         self.k = gf.Spmat("copy", k_all, free, free)
         self.m = gf.Spmat("copy", m_all, free, free)
         self.f = np.ascontiguousarray(f_all[free])
         scaled_k = gf.Spmat("copy", self.k)
         scaled_k.scale(BETA * DT * DT)
         eff = gf.Spmat("add", self.m, scaled_k)
+        self.k_static = gf.Spmat("copy", self.k)  # the static check's K (self.k turns CSC below)
         self.k.to_csc()
         # Factor once: Precond('superlu', ...) crashes in Debian's GetFEM 5.4.2
         # (a segmentation fault even on a 5 x 5 identity), so the factor is
@@ -119,6 +181,22 @@ class GetfemPlate:
         tip = [i for i, k in enumerate(free) if k % 2 == 0 and abs(nodes[0, k] - LX) < eps and abs(nodes[1, k] - 0.5 * LY) < eps]
         self.tip = tip[0] if tip else None
         self.rest()
+
+    def jump(self, y):
+        """u just right of the crack minus just left of it at height y: (x, y)
+        components, xfdem's opening and sliding (the crack runs up, its
+        normal points to -x)."""
+        np = self.np
+        full = np.zeros(self.mf.nbdof())
+        full[self.free] = self.u
+        # At x = CRACK_X -+ g and -+ 2g: u is linear in x on each side of the
+        # crack in a cut cell (bilinear functions, times a Heaviside), so
+        # 2 j(g) - j(2g) is the jump at the crack itself, without the
+        # strain times the offset that j(g) alone carries.
+        g = 1e-6
+        pts = np.array([[CRACK_X + g, CRACK_X - g, CRACK_X + 2 * g, CRACK_X - 2 * g], [y] * 4])
+        val = self.gf.compute_interpolate_on(self.mf, full, pts)
+        return tuple(float(2 * (val[c, 0] - val[c, 1]) - (val[c, 2] - val[c, 3])) for c in range(2))
 
     def factor_bytes(self):
         """SuperLU's L and U of M + beta dt^2 K: a value and a row index per
@@ -154,8 +232,8 @@ def splu(a, permc_spec):
     return scipy_splu(a, permc_spec=permc_spec)
 
 
-def build_getfem(gf, nx, ny):
-    return GetfemPlate(gf, nx, ny)
+def build_getfem(gf, nx, ny, cut=False):
+    return GetfemPlate(gf, nx, ny, cut)
 
 
 def median_seconds(fn, repetitions, min_seconds=0.2):
@@ -179,9 +257,9 @@ def median_seconds(fn, repetitions, min_seconds=0.2):
     return per[len(per) // 2]
 
 
-def xfdem_medians(bench, repetitions):
+def xfdem_medians(bench, repetitions, pattern="BM_Plate(Step|Solve|Build|StiffnessProduct)/"):
     result = subprocess.run(
-        [bench, "--benchmark_filter=BM_Plate(Step|Solve|Build|StiffnessProduct)/", f"--benchmark_repetitions={repetitions}",
+        [bench, f"--benchmark_filter={pattern}", f"--benchmark_repetitions={repetitions}",
          "--benchmark_report_aggregates_only=true", "--benchmark_format=json"],
         check=True, capture_output=True, text=True)
     medians = {}
@@ -192,15 +270,84 @@ def xfdem_medians(bench, repetitions):
     return medians
 
 
+def xfdem_probes(cli, nx, ny, scene="plate_tension.json", static=False):
+    """The scene's last row of probes (after CHECK_STEPS steps, or the static
+    solution), through the command line, as a dict."""
+    scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", scene)
+    args = [cli, "run", scene, "--set", f"continuum.cells=[{nx},{ny}]"]
+    if static:
+        args += ["--set", "continuum.analysis=\"static\""]
+    else:
+        args += ["--set", f"time.end={CHECK_STEPS * DT!r}", "--set", f"output.every={CHECK_STEPS * DT!r}"]
+    out = subprocess.run(args, check=True, capture_output=True, text=True).stdout.splitlines()
+    return dict(zip(out[0].split(","), (float(v) for v in out[-1].split(","))))
+
+
 def xfdem_tip(cli, nx, ny):
     """u_x at (2, 0.5) after CHECK_STEPS steps, through the command line."""
-    scene = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes", "plate_tension.json")
-    out = subprocess.run(
-        [cli, "run", scene, "--set", f"continuum.cells=[{nx},{ny}]", "--set", f"time.end={CHECK_STEPS * DT!r}",
-         "--set", f"output.every={CHECK_STEPS * DT!r}"],
-        check=True, capture_output=True, text=True).stdout.splitlines()
-    header = out[0].split(",")
-    return float(out[-1].split(",")[header.index("u_tip")])
+    return xfdem_probes(cli, nx, ny)["u_tip"]
+
+
+# The tied cut's check: GetFEM and xfdem on the same plate must agree to this
+# (relative to the value): both integrate the same space exactly, so what is
+# left is round-off (different factorisations and sums, over CHECK_STEPS steps).
+TIED_CUT_TOLERANCE = 1e-11
+
+
+def tied_cut(gf, bench, cli, repetitions):
+    """--case tied_cut: check that the two agree, then time the step."""
+    print("same problem: scenes/plate_crack.json's plate (tied crack at x = %g, k = %g Pa/m) on each size" %
+          (CRACK_X, CRACK_K[0]))
+    print("  u_tip = u_x at (2, 0.5); at (%g, 0.5) opening = [u_x] and sliding = -[u_y], [.] right minus left" % CRACK_X)
+    worst = 0.0
+    for nx, ny in SIZES:
+        p = build_getfem(gf, nx, ny, cut=True)
+        # Static: K u = f (GetFEM: SciPy's solve of the reduced K).
+        from scipy.sparse.linalg import spsolve
+        np = p.np
+        u_dyn = p.u
+        p.u = np.asarray(spsolve(to_scipy(p.k_static), p.f))
+        theirs_static = (float(p.u[p.tip]), p.jump(0.5)[0])
+        p.u = u_dyn
+        for _ in range(CHECK_STEPS):
+            p.step()
+        jx, jy = p.jump(0.5)
+        theirs_dyn = (float(p.u[p.tip]), jx, -jy)
+        ours_static = xfdem_probes(cli, nx, ny, "plate_crack.json", static=True)
+        ours_dyn = xfdem_probes(cli, nx, ny, "plate_crack.json")
+        # (The static sliding is zero in both: left out.)
+        for label, ours, theirs in (("static", ours_static, theirs_static),
+                                    (f"{CHECK_STEPS} steps", ours_dyn, theirs_dyn)):
+            for name, t in zip(("u_tip", "opening", "sliding"), theirs):
+                o = ours[name]
+                rel = abs(o - t) / abs(t)
+                worst = max(worst, rel)
+                print(f"  {nx} x {ny} ({p.n} unknowns), {label}, {name}: xfdem {o:.17g}, GetFEM {t:.17g}, "
+                      f"relative difference {rel:.2e}")
+    if not worst <= TIED_CUT_TOLERANCE:
+        sys.exit(f"bench_getfem.py: --case tied_cut: the two differ by {worst:.2e} relative "
+                 f"(> {TIED_CUT_TOLERANCE:g}); not timed")
+    print(f"  largest relative difference {worst:.2e} (the check: <= {TIED_CUT_TOLERANCE:g})")
+
+    load = os.getloadavg()[0]
+    ours = xfdem_medians(bench, repetitions, "BM_PlateTiedCutStep/")
+    print()
+    header = ["cells", "unknowns", "xfdem step", "xfdem step, no energy check", "GetFEM step", "ratio",
+              "ratio, no energy check", "step <= 1/5 of GetFEM's"]
+    print("| " + " | ".join(header) + " |")
+    print("|---|" + "---:|" * (len(header) - 1))
+    for nx, ny in SIZES:
+        step = ours[f"BM_PlateTiedCutStep/nx:{nx}/ny:{ny}/check:16"]
+        step_nocheck = ours[f"BM_PlateTiedCutStep/nx:{nx}/ny:{ny}/check:0"]
+        p = build_getfem(gf, nx, ny, cut=True)
+        assert p.n == int(step["dofs"]), (p.n, step["dofs"])
+        g_step = median_seconds(p.step, repetitions)
+        ratio = step["cpu_s"] / g_step
+        print(f"| {nx} x {ny} | {p.n} | {seconds_text(step['cpu_s'])} | {seconds_text(step_nocheck['cpu_s'])} "
+              f"| {seconds_text(g_step)} | {ratio:.3f} | {step_nocheck['cpu_s'] / g_step:.3f} "
+              f"| {'yes' if ratio <= 0.2 else 'no'} |")
+    print("\nratio: xfdem / GetFEM (the goal: <= 0.2 for the step)")
+    print(f"load average (1 min) at the start of the timing: {load:.2f}, at its end: {os.getloadavg()[0]:.2f}")
 
 
 def seconds_text(s):
@@ -219,9 +366,6 @@ def main():
     parser.add_argument("--case", default="uncut", choices=["uncut", "tied_cut"])
     parser.add_argument("--before", default=None, help="another build's xfdem_bench, timed in the same run")
     args = parser.parse_args()
-    if args.case != "uncut":
-        sys.exit("bench_getfem.py: --case tied_cut: the GetFEM side of the tied, level-set-cut plate is not "
-                 "written yet; only --case uncut runs")
     gf = import_getfem()
     import numpy as np
     bench = os.path.join(args.build, "bench", "xfdem_bench")
@@ -229,6 +373,9 @@ def main():
     for path in (bench, cli):
         if not os.access(path, os.X_OK):
             sys.exit(f"bench_getfem.py: {path} is missing: cmake --preset release && cmake --build --preset release")
+    if args.case == "tied_cut":
+        tied_cut(gf, bench, cli, args.repetitions)
+        return
 
     print("same problem: the right edge's mid-node u_x after %d steps from rest" % CHECK_STEPS)
     for nx, ny in SIZES[:2]:
