@@ -1060,7 +1060,6 @@ StepStatus bar_step(const BarModel& model, BarState& state, BarWorkspace& worksp
   return s;
 }
 
-
 StepStatus bar_adjust_step_input(const BarModel& m, BarState& st, BarWorkspace& ws, double tip_force) {
   if (!m.built || !m.linear_in_tip_force) return StepStatus::not_built;
   const double change = tip_force - st.tip_input;

@@ -1986,14 +1986,11 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     // K u = f with every load at its amplitude (shape step: 1; none: 0), by
     // the profile factor: one solve at build, and its round-off is what the
     // static closed-form tests were set against (the sparse factor's ordering
-    // put a few of them past their 64 ε bars). model.stiffness_factor holds
-    // the sparse factor of the same matrix for its pivots (diagnostics).
-    xfem::BandLdlt profile;
+    // put a few of them past their 64 ε bars).
+    xfem::BandLdlt& profile = model.stiffness_factor;
     auto factor_k = [&](const xfem::SymmetricBand& k) {
-      if (!profile.factor(k) || !(profile.min_pivot() > 1e-12 * profile.max_pivot())) return false;
-      return model.stiffness_factor.factor(k);
+      return profile.factor(k) && profile.min_pivot() > 1e-12 * profile.max_pivot();
     };
-    model.stiffness_factor.analyse(model.stiffness, face_pairs);
     if (model.unilateral_points == 0 && !factor_k(model.stiffness))
       return BuildResult::failure(Code::invalid_argument,
                                   "supports: the plate is not held against rigid motion (its stiffness is singular); "

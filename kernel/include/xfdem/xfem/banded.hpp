@@ -130,8 +130,9 @@ class SparseLdlt {
   void solve(double* x, double* work) const;
   [[nodiscard]] int size() const { return n_; }
   [[nodiscard]] bool ready() const { return ready_; }
-  /// Stored entries of L below the diagonal.
+  /// The solve's supernodes (below).
   [[nodiscard]] int supernodes() const { return static_cast<int>(sn_first_.size()) - 1; }
+  /// Stored entries of L below the diagonal.
   [[nodiscard]] long nonzeros() const { return static_cast<long>(l_row_.size()); }
   /// Bytes of the factor a solve reads: L's values, the supernodes' row
   /// indices and column starts, 1/D and the ordering.
