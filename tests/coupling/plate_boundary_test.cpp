@@ -465,6 +465,19 @@ TEST(PlateBoundary, ADiskOverACracksMouthTouchesBothLipsContinuously) {
   EXPECT_LT(worst, 1.5 * dx);
 }
 
+namespace {
+// The free plate of 8 × 4 cells with a crack from below its bottom edge up
+// to a tip at (xc, tip_y), 0.15 m below the top.
+constexpr double xc = 1.1, tip_y = 0.85;
+PlateDesc tipped_crack_plate() {
+  PlateDesc d = free_plate(8, 4);
+  PlateDiscontinuity q = vertical_crack(xc);
+  q.points = {{xc, -0.2}, {xc, tip_y}};
+  d.discontinuities.push_back(q);
+  return d;
+}
+}  // namespace
+
 // A crack from the bottom edge up to a tip 0.15 m below the top (cells of
 // 0.25 m: the tip's cell reaches the top edge). The plate integrates the tip's
 // cell fanned from the tip, the crack straight from where it enters the cell
@@ -472,13 +485,8 @@ TEST(PlateBoundary, ADiskOverACracksMouthTouchesBothLipsContinuously) {
 // where they meet: one closed loop (the outer edges, broken at the bottom
 // mouth, and the two faces), the top edge intact over the crack's line.
 TEST(PlateBoundary, ACracksFacesStopAtItsTipAndTheEdgeBeyondItIsIntact) {
-  constexpr double xc = 1.1, tip_y = 0.85;
-  PlateDesc d = free_plate(8, 4);
-  PlateDiscontinuity q = vertical_crack(xc);
-  q.points = {{xc, -0.2}, {xc, tip_y}};
-  d.discontinuities.push_back(q);
   Built b;
-  build(d, 0.05, b);
+  build(tipped_crack_plate(), 0.05, b);
   const PlateBoundary& pb = b.boundary;
   ASSERT_EQ(b.model.tips.size(), 1u);
   EXPECT_EQ(pb.vertices.size(), pb.segments.size());  // every chain closed
@@ -560,13 +568,8 @@ TEST(PlateBoundary, ACracksFacesStopAtItsTipAndTheEdgeBeyondItIsIntact) {
 // by the crack's opening, which plate_crack_opening computes with the jump's
 // sign explicitly (2 N_a a_a and ±2√r N_a b_a), not from a point's side.
 TEST(PlateBoundary, NearATipEachFaceMovesWithItsOwnSide) {
-  constexpr double xc = 1.1, tip_y = 0.85;
-  PlateDesc d = free_plate(8, 4);
-  PlateDiscontinuity q = vertical_crack(xc);
-  q.points = {{xc, -0.2}, {xc, tip_y}};
-  d.discontinuities.push_back(q);
   Built b;
-  build(d, 0.05, b);
+  build(tipped_crack_plate(), 0.05, b);
   const PlateBoundary& pb = b.boundary;
   std::vector<double> u(static_cast<std::size_t>(b.model.dofs), 0.0);
   for (int n = 0; n < b.model.nodes; ++n) {
