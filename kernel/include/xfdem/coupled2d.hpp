@@ -244,13 +244,14 @@ struct Coupled2dWorkspace {
   /// order of one part's loop, so the sums are the same bits on one and two
   /// workers (and with or without the split).
   struct PlateShare {
-    PlateMaterialPoint at[2];         ///< where the force acts (plate_boundary_material_points)
-    double at_share[2] = {1.0, 0.0};  ///< the force's share at each (a blended contact has two)
+    PlateMaterialPoint at[kPlateBoundaryMaxPoints];  ///< where the force acts (plate_boundary_material_points)
+    double at_share[kPlateBoundaryMaxPoints] = {1.0, 0.0, 0.0, 0.0};  ///< the force's share at each
     int points = 1;
+    double partner_weight = 0;  ///< a blended contact's w: its couple's share on the second segment
     double force[2] = {0, 0};  ///< on the plate, × the evaluation's weight
     double work = 0;           ///< weight × F·V, taken from the book
     int couple_segment = -1;   ///< a rolling couple's segment (−1: none)
-    int couple_partner = -1;   ///< a blended contact's second segment (the couple shared as at_share)
+    int couple_partner = -1;   ///< a blended contact's second segment (the couple shared 1 − w, w)
     double couple = 0, couple_work = 0;
   };
   std::vector<PlateShare> shares;

@@ -132,7 +132,7 @@ void spread_shares(const Coupled2dModel& m, const Coupled2dWorkspace& w, double*
       work -= share->work;
       if (share->points == 1) {
         plate_spread_force(m.plate, share->at[0], share->force, plate);
-      } else {  // a blended contact: the force shared by its two points
+      } else {  // shared by its points (a blended contact's two feet, a segment's two ends)
         for (int q = 0; q < share->points; ++q) {
           const double piece[2] = {share->at_share[q] * share->force[0], share->at_share[q] * share->force[1]};
           plate_spread_force(m.plate, share->at[q], piece, plate);
@@ -143,8 +143,9 @@ void spread_shares(const Coupled2dModel& m, const Coupled2dWorkspace& w, double*
       if (share->couple_partner < 0) {
         spread_couple(m.plate, m.boundary, share->couple_segment, share->couple, plate);
       } else {  // a blended contact's couple, shared by its two edges as its force is
-        spread_couple(m.plate, m.boundary, share->couple_segment, share->at_share[0] * share->couple, plate);
-        spread_couple(m.plate, m.boundary, share->couple_partner, share->at_share[1] * share->couple, plate);
+        spread_couple(m.plate, m.boundary, share->couple_segment, (1.0 - share->partner_weight) * share->couple,
+                      plate);
+        spread_couple(m.plate, m.boundary, share->couple_partner, share->partner_weight * share->couple, plate);
       }
     }
   }
@@ -314,6 +315,7 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     torque += r.torque_j[0];
     Share& share = *shares++;
     share.points = plate_boundary_material_points(m.boundary, ct, share.at, share.at_share);
+    share.partner_weight = ct.partner_weight;
     share.force[0] = -scale * on_disk[0], share.force[1] = -scale * on_disk[1];
     share.work = scale * (on_disk[0] * wall.velocity[0] + on_disk[1] * wall.velocity[1]);
     share.couple_segment = share.couple_partner = -1;

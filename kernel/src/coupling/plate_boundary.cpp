@@ -346,6 +346,16 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
          seg = out.vertices[static_cast<std::size_t>(out.segments[static_cast<std::size_t>(seg)].b)].next)
       out.segments[static_cast<std::size_t>(seg)].chain = head;
   }
+  // Which segments the plate's field is linear along: an edge (constant ξ or
+  // η) of a cell with only its four bilinear functions.
+  for (PlateBoundarySegment& s : out.segments) {
+    PlatePointBasis basis;
+    const bool along_edge = s.xi[0] == s.xi[1] || s.eta[0] == s.eta[1];
+    s.linear = along_edge &&
+               plate_point_basis(m, s.cell[0], s.cell[1], 0.5 * (s.xi[0] + s.xi[1]), 0.5 * (s.eta[0] + s.eta[1]),
+                                 s.side, basis) &&
+               basis.count == 4;
+  }
   // Bins: the domain grown by the reach, bins at least a reach wide.
   out.allowance = allowance;
   out.reach = max_radius + allowance;
@@ -576,19 +586,39 @@ PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& b, const P
   return p;
 }
 
-int plate_boundary_material_points(const PlateBoundary& b, const PlateBoundaryContact& c, PlateMaterialPoint at[2],
-                                   double share[2]) {
-  at[0] = plate_boundary_material_point(b, c);
-  if (c.partner < 0) {
+namespace {
+
+/// One foot of a contact on segment `segment` at t, weighed by `weight`:
+/// the point itself on a linear segment, else the segment's two ends.
+int foot_points(const PlateBoundary& b, int segment, double t, double weight, PlateMaterialPoint* at, double* share) {
+  const PlateBoundarySegment& s = b.segments[static_cast<std::size_t>(segment)];
+  if (s.linear) {
+    PlateBoundaryContact foot;
+    foot.segment = segment;
+    foot.t = t;
+    at[0] = plate_boundary_material_point(b, foot);
+    share[0] = weight;
+    return 1;
+  }
+  at[0] = b.vertices[static_cast<std::size_t>(s.a)].at;
+  at[1] = b.vertices[static_cast<std::size_t>(s.b)].at;
+  share[0] = weight * (1.0 - t), share[1] = weight * t;
+  return 2;
+}
+
+}  // namespace
+
+int plate_boundary_material_points(const PlateBoundary& b, const PlateBoundaryContact& c,
+                                   PlateMaterialPoint at[kPlateBoundaryMaxPoints],
+                                   double share[kPlateBoundaryMaxPoints]) {
+  if (c.vertex >= 0) {
+    at[0] = b.vertices[static_cast<std::size_t>(c.vertex)].at;
     share[0] = 1.0;
     return 1;
   }
-  PlateBoundaryContact other;
-  other.segment = c.partner;
-  other.t = c.partner_t;
-  at[1] = plate_boundary_material_point(b, other);
-  share[0] = 1.0 - c.partner_weight, share[1] = c.partner_weight;
-  return 2;
+  if (c.partner < 0) return foot_points(b, c.segment, c.t, 1.0, at, share);
+  const int first = foot_points(b, c.segment, c.t, 1.0 - c.partner_weight, at, share);
+  return first + foot_points(b, c.partner, c.partner_t, c.partner_weight, at + first, share + first);
 }
 
 void plate_spread_force(const PlateModel& m, const PlateMaterialPoint& at, const double force[2], double* f) {

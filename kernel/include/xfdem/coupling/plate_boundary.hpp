@@ -66,6 +66,14 @@ struct PlateBoundarySegment {
   /// open chain), named by one of its segments: what a disk's tangential
   /// spring is kept by, so that it slides across joints with its history.
   int chain = -1;
+  /// Whether the plate's field is linear along the segment (an edge of a cell
+  /// with only its four bilinear functions): then a point's shape functions
+  /// are its ends' blended, and a contact's force may be spread at the point
+  /// itself. Elsewhere (a cut cell, enriched nodes) the field along the
+  /// segment is not linear, while the contact sees the straight segment
+  /// between its moved ends, so the force goes to the two ends
+  /// (plate_boundary_material_points).
+  bool linear = true;
 };
 
 struct PlateBoundary {
@@ -136,12 +144,24 @@ PlateMaterialPoint plate_boundary_material_point(const PlateBoundary& boundary, 
 /// them. No allocation.
 void plate_spread_force(const PlateModel& plate, const PlateMaterialPoint& at, const double force[2], double* f);
 
-/// Where a contact's force acts on the plate: its material point (returns
-/// 1, share 1), or a blended contact's two (returns 2, shares 1 − w and w),
-/// whose blend is its point, so that the plate gets the force and its moment
-/// about any point.
+/// Most material points a contact's force is shared by: two feet of a
+/// blended contact, each on a segment's two ends.
+inline constexpr int kPlateBoundaryMaxPoints = 4;
+
+/// Where a contact's force acts on the plate, and each point's share of it:
+/// the points the contact's own kinematics moves with, so that the force's
+/// work on the plate is the force times the contact point's velocity (the
+/// exchange creates no energy). A vertex contact: the vertex (share 1). An
+/// edge contact at t on a `linear` segment: the point at t (share 1; the
+/// same as its ends at 1 − t and t there); on any other segment its two
+/// ends, shares 1 − t and t, as the contact point is placed on the straight
+/// segment between the moved ends. A blended contact: each foot so, weighed
+/// by 1 − w and w. The shares sum to 1 and blend the points to the contact
+/// point, so the plate gets the force and its moment about any point.
+/// Returns the count (≤ kPlateBoundaryMaxPoints).
 int plate_boundary_material_points(const PlateBoundary& boundary, const PlateBoundaryContact& contact,
-                                   PlateMaterialPoint at[2], double share[2]);
+                                   PlateMaterialPoint at[kPlateBoundaryMaxPoints],
+                                   double share[kPlateBoundaryMaxPoints]);
 
 /// The plate's field (displacement u, or a rate with held components 0) at a
 /// material point. No allocation.
