@@ -429,6 +429,7 @@ Coupled2dDesc coupled2d_desc(const Scene& scene) {
   desc.plate = *scene.plate;
   desc.dem_substeps = scene.dem_substeps;
   desc.reject_unstable_coupling = desc.dem.reject_unstable_dt;
+  desc.energy_check = scene.energy_check;
   return desc;
 }
 

@@ -63,6 +63,7 @@
 
 #include "xfdem/coupling/plate_boundary.hpp"
 #include "xfdem/dem.hpp"
+#include "xfdem/energy_check.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/status.hpp"
 
@@ -85,6 +86,9 @@ struct Coupled2dDesc {
   /// node's lumped mass, has ω_c·dt above kCoupledMaxOmegaDt or ω_c·dt/n
   /// above the disks' integrator's stable step.
   bool reject_unstable_coupling = true;
+  /// The energy balance check of coupled2d_step() on the disks and the plate
+  /// together (Coupled2dState::energy), replacing the halves' own.
+  EnergyCheck energy_check;
 };
 
 struct Coupled2dModel {
@@ -103,6 +107,7 @@ struct Coupled2dModel {
   /// (an inclusion's where the segment bounds it); empty otherwise (the plate's).
   std::vector<double> segment_inv_e, segment_inv_g;
   bool beyond_stable_step = false;
+  EnergyCheck energy_check;  ///< Coupled2dDesc::energy_check
 };
 
 /// A window has settled when |g| ≤ this × (|f̄| + |J/dt|) (Euclidean norms
@@ -179,6 +184,11 @@ struct Coupled2dState {
   double worst_unsettled = 0;
   /// Windows that ended in the blend of two passes across a jump of J.
   std::int64_t blended_windows = 0;
+  /// The energy balance check's books (coupled2d_energy_totals) against the
+  /// work the halves book on their own ledgers (the plate's loads, self
+  /// weight, dampers and absorbing edges; the disks' moving planes); the
+  /// exchange is internal.
+  EnergyLedger energy;
   std::int64_t step = 0;
   double time = 0;
 
@@ -206,6 +216,10 @@ struct Coupled2dState {
     visit("", "unsettled_windows", &unsettled_windows, std::size_t{1});
     visit("", "worst_unsettled", &worst_unsettled, std::size_t{1});
     visit("", "blended_windows", &blended_windows, std::size_t{1});
+    visit("", "energy_reference", &energy.reference, std::size_t{1});
+    visit("", "energy_work", &energy.work, std::size_t{1});
+    visit("", "energy_peak", &energy.peak, std::size_t{1});
+    visit("", "energy_exceeded", &energy.exceeded, std::size_t{1});
     visit("", "step", &step, std::size_t{1});
     visit("", "time", &time, std::size_t{1});
   }
@@ -270,8 +284,25 @@ struct Coupled2dWorkspace {
 BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& model, Coupled2dState& state,
                             Coupled2dWorkspace& workspace);
 
-/// One plate step and its disk substeps. Never allocates.
+/// One plate step and its disk substeps, then, every energy_check.interval
+/// steps, the energy balance check E(t) − E0 − W(t) ≤ tolerance · max
+/// E_motion (+ round-off) on both bodies (energy_check.hpp; E from
+/// coupled2d_energy_totals, W the halves' booked work): from the first check
+/// that finds the energy above its books, every step says energy_growth.
+/// Never allocates.
 StepStatus coupled2d_step(const Coupled2dModel& model, Coupled2dState& state, Coupled2dWorkspace& workspace);
+
+/// What the energy check weighs now: the disks' energy (dem_energy: kinetic
+/// and rotational, their contacts with each other and with planes, gravity's
+/// −m g·x), the disk–boundary contacts' (coupled2d_boundary_energy) and the
+/// plate's algorithmic energy (plate_algorithmic_energy); the total, the part
+/// in motion (all but gravity's) and the magnitudes' sum. `positions`: the
+/// caller's scratch, 2 doubles per boundary vertex. No allocation.
+EnergyTotals coupled2d_energy_totals(const Coupled2dModel& model, const Coupled2dState& state, double* positions);
+
+/// Starts new energy books at the state as it is (build does): call after
+/// editing the state.
+void coupled2d_restart_energy_ledger(const Coupled2dModel& model, Coupled2dState& state, Coupled2dWorkspace& workspace);
 
 /// Force (x, y; N) of the boundary on disk i (the sum of its contacts'):
 /// for symplectic_euler what the last substep of the last step held, for the
@@ -283,7 +314,9 @@ bool coupled2d_boundary_force(const Coupled2dModel& model, const Coupled2dState&
 /// Energy (J) of the disk–boundary contacts with the disks and the plate
 /// where they are now: each contact's normal spring (½ k_i δ²; hertz 8/15 E*
 /// √r δ^{5/2} with the plate's material as the second body) and, with linear
-/// friction, ½ k_t |ξ|² of the kept tangential springs (hertz's, kept as a
+/// friction, ½ k_t |ξ|² of the kept tangential springs, each force counted
+/// up to its contact's Coulomb cap μ k_i δ (the rest is the dashpot's share a
+/// sliding contact resets into ξ: dem_detail::tangential_energy) (hertz's, kept as a
 /// force, has no potential: the DEM's books leave it out too). `positions`
 /// is the caller's scratch, 2 doubles per boundary vertex. No allocation.
 double coupled2d_boundary_energy(const Coupled2dModel& model, const Coupled2dState& state, double* positions);

@@ -583,6 +583,7 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   m = Coupled2dModel{};
   s = Coupled2dState{};
   w = Coupled2dWorkspace{};
+  if (BuildResult r = validate_energy_check(desc.energy_check); !r.ok()) return r;
   if (desc.dem_substeps < 1 || desc.dem_substeps > 1'000'000)
     return BuildResult::failure(Code::invalid_argument, "dem_substeps: must be in [1, 1e6] (got %d)", desc.dem_substeps);
   if (desc.plate.analysis != PlateDesc::Analysis::dynamic)
@@ -740,12 +741,16 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     p.impulse.assign(dofs, 0.0);
   }
   w.plate_start = s.plate;
+  m.energy_check = desc.energy_check;
   m.built = true;
+  coupled2d_restart_energy_ledger(m, s, w);
   return BuildResult::success();
 }
 
 StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
   if (!m.built) return StepStatus::not_built;
+  // The work the halves book over the step (the energy check's W).
+  const double booked_before = s.plate.energy.work + s.dem.energy.work;
   if (hooked(m)) {
     // Installed at every step: the world may have been copied since.
     w.dem.external_contacts = &boundary_stage;
@@ -895,6 +900,10 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   s.step += 1;
   s.time = static_cast<double>(s.step) * m.dt;
   if (m.beyond_stable_step) status |= StepStatus::unstable_time_step;
+  s.energy.work += (s.plate.energy.work + s.dem.energy.work) - booked_before;
+  if (energy_check_due(m.energy_check, s.step))
+    energy_check(s.energy, m.energy_check, coupled2d_energy_totals(m, s, w.positions.data()));
+  if (s.energy.exceeded != 0) status |= StepStatus::energy_growth;
   return status;
 }
 
@@ -913,6 +922,12 @@ double coupled2d_boundary_energy(const Coupled2dModel& m, const Coupled2dState& 
   if (!m.built) return 0.0;
   plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions);
   const bool hertz = m.dem.law == ContactLaw::hertz;
+  // Linear friction: ½ k_t |ξ|² of the kept springs, each up to the Coulomb
+  // cap of its contact's normal spring (tangential_energy), the contact the
+  // spring's own as the step matches them: its chain, the nearest normal
+  // within 60° (rotating_contacts).
+  const bool springs = m.rotating && !hertz && m.dem.friction > 0;
+  const double* const xi[2] = {s.springs.xi.data(), s.springs.xi.data() + 1};
   double energy = 0;
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
@@ -923,15 +938,36 @@ double coupled2d_boundary_energy(const Coupled2dModel& m, const Coupled2dState& 
       energy += hertz ? dem_detail::hertz_energy(1.0 / (m.dem.hertz_inv_e[iu] + m.plate_inv_e), m.dem.radius[iu],
                                                  c[k].overlap)
                       : dem_detail::spring_energy(m.dem.stiffness[iu], c[k].overlap);
-  }
-  if (m.rotating && !hertz && m.dem.friction > 0) {
-    const double* const xi[2] = {s.springs.xi.data(), s.springs.xi.data() + 1};
-    for (std::size_t slot = 0; slot < s.springs.chain.size(); ++slot)
-      if (s.springs.chain[slot] >= 0)
-        energy += dem_detail::tangential_energy<2>(
-            m.dem.tangential_ratio * m.dem.stiffness[slot / kPlateBoundaryMaxContacts], xi, 2 * slot);
+    if (!springs) continue;
+    for (int k = 0; k < kPlateBoundaryMaxContacts; ++k) {
+      const std::size_t slot = iu * kPlateBoundaryMaxContacts + static_cast<std::size_t>(k);
+      if (s.springs.chain[slot] < 0) continue;
+      double overlap = 0, nearest = 0.5;
+      for (int q = 0; q < count; ++q) {
+        if (m.boundary.segments[static_cast<std::size_t>(c[q].segment)].chain != s.springs.chain[slot]) continue;
+        const double cosine =
+            s.springs.normal[2 * slot] * c[q].normal[0] + s.springs.normal[2 * slot + 1] * c[q].normal[1];
+        if (cosine > nearest) nearest = cosine, overlap = c[q].overlap;
+      }
+      energy += dem_detail::tangential_energy<2>(m.dem.tangential_ratio * m.dem.stiffness[iu], xi, 2 * slot,
+                                                 m.dem.friction * m.dem.stiffness[iu] * overlap);
+    }
   }
   return energy;
+}
+
+EnergyTotals coupled2d_energy_totals(const Coupled2dModel& m, const Coupled2dState& s, double* positions) {
+  if (!m.built) return {};
+  const DemEnergy dem = dem_energy(m.dem, s.dem);
+  const double boundary = coupled2d_boundary_energy(m, s, positions);
+  const double plate = plate_algorithmic_energy(m.plate, s.plate);
+  const double in_motion = dem.kinetic + dem.elastic + boundary + plate;
+  return {in_motion + dem.potential, in_motion, in_motion + std::fabs(dem.potential)};
+}
+
+void coupled2d_restart_energy_ledger(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWorkspace& w) {
+  if (!m.built) return;
+  energy_restart(s.energy, coupled2d_energy_totals(m, s, w.positions.data()));
 }
 
 }  // namespace xfdem

@@ -93,12 +93,17 @@ double tangential_springs(const DemModel<D>& m, const DemState<D>& s, std::int32
   // with F held): the books leave it out, and so count a lower bound of the
   // energy in motion; a gain past the start is still a gain.
   if (m.law == ContactLaw::hertz) return 0.0;
+  // Each spring counted up to the Coulomb cap of its contact's normal spring
+  // now (tangential_energy).
+  auto cap = [&](double K, double overlap) { return overlap > 0 ? m.friction * K * overlap : 0.0; };
   for (std::size_t p = 0; p < m.plane_point.size(); ++p)
     for (std::int32_t i = begin; i < end; ++i)
       sum += dem_detail::tangential_energy<D>(m.tangential_ratio * m.stiffness[i], plane_xi,
-                                              p * static_cast<std::size_t>(m.n) + static_cast<std::size_t>(i));
+                                              p * static_cast<std::size_t>(m.n) + static_cast<std::size_t>(i),
+                                              cap(m.stiffness[i], plane_overlap(m, s, i, p, nullptr)));
   for (std::int32_t k = pair_begin; k < pair_end; ++k)
-    sum += dem_detail::tangential_energy<D>(m.tangential_ratio * s.pair_stiffness[k], pair_xi, static_cast<std::size_t>(k));
+    sum += dem_detail::tangential_energy<D>(m.tangential_ratio * s.pair_stiffness[k], pair_xi, static_cast<std::size_t>(k),
+                                            cap(s.pair_stiffness[k], pair_overlap(m, s, s.pair_i[k], s.pair_j[k], nullptr)));
   return sum;
   }
 }
