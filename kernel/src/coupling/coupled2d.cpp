@@ -299,6 +299,14 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
                                              ct.partner_weight * segment_spin(m.boundary, w, ct.partner, m.dt);
     wall.spin = &spin;
     segment_compliance(m, ct.segment, wall.inv_e, wall.inv_g);
+    // Rolling resistance holds the disk within the substep h at every
+    // evaluation, its contact's tangential torque included: a disk resting on
+    // the plate's bent top (a tilted normal) needs a couple against that torque,
+    // which the plane's clamp gives only while the disk rolls, at h τ_t / I
+    // (it crept); and the stepper's re-evaluation at a window's start (h = 0)
+    // would otherwise take the uncapped torque ±μ_r r F_n, whose sign flips
+    // with the pass's boundary spin (windows left at a jump).
+    wall.hold = m.dem.dt;
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
     // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
     // opposite, and the sliding velocity is that of the disk's point at p.
