@@ -45,6 +45,8 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
 /// contact needs a couple (a tilted normal under its weight) can rest; 0: the
 /// plane's law, the torque that stops it within the evaluation's h alone,
 /// which holds such a particle only while it rolls at h τ_t / I.
+/// `inv_inertia`: the wall's 1/I for that torque (a plane's: 0), which turns
+/// back under it as a pair's second particle does.
 template <int D>
 struct WallContact {
   double normal[D];
@@ -54,6 +56,7 @@ struct WallContact {
   double inv_e, inv_g;
   double arm;
   double hold = 0;
+  double inv_inertia = 0;
 };
 
 /// Particle i touching a wall with overlap δ > 0: the plane contact's law
