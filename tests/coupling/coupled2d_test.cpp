@@ -557,19 +557,8 @@ TEST(Coupled2d, ADiskRestingInAVoidCarriesItsWeightThroughTheVoidsBoundary) {
 TEST(Coupled2d, ADiskCentredOverANodeRestsThereAndLoadsThePlateAsAPointForce) {
   for (const DemIntegrator integrator : kIntegrators) {
     const double L = 1.8352577124736102, H = 0.992878970453352;
-    const double m = 49.55, r = 0.14, k = 2.1e5, g = 9.81;
-    Coupled2dDesc d;
-    d.plate = plate(2.9e7, L, H, 4, 6);
-    d.plate.poisson_ratio = 0.135;
-    d.plate.density = 2789.0;
-    d.plate.beta = 0.49, d.plate.gamma = 0.9;  // numerical damping: the plate comes to rest
-    d.plate.dt = 1.6e-3;
-    d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
-    d.dem.integrator = integrator;
-    d.dem.damping_ratio = 0.7;
-    d.dem.gravity = {0.0, -g};
-    d.dem.particles.push_back(disk(m, r, k, 0.5 * L, H + r - m * g / k, 0.0, 0.0));
-    d.dem_substeps = 10;
+    const double m = 49.55, g = 9.81;
+    const Coupled2dDesc d = xfdem::testing::disk_resting_on_soft_plate(integrator, 0.5 * L);
     Coupled2dWorld w;
     const BuildResult built = w.build(d);
     ASSERT_TRUE(built.ok()) << built.message;

@@ -56,6 +56,30 @@ inline Coupled2dDesc disk_bed_on_plate(int n) {
   return d;
 }
 
+/// A heavy disk (49.55 kg, r = 0.14 m, k = 2.1e5 N/m, ζ = 0.7) set at its
+/// static overlap m g / k on the top of a soft plate (1.835 m × 0.993 m, 4 × 6
+/// cells, E = 2.9e7 Pa, ν = 0.135, ρ = 2789, Newmark β = 0.49, γ = 0.9: the
+/// plate comes to rest) held at its bottom, centred at x; frictionless unless
+/// the caller adds friction; dt = 1.6e-3 s, 10 substeps. A node of the top
+/// every L/4, so x = L/2 is its centre node and L/4 a node off the centre.
+inline Coupled2dDesc disk_resting_on_soft_plate(DemIntegrator integrator, double x) {
+  constexpr double L = 1.8352577124736102, H = 0.992878970453352;
+  const double m = 49.55, r = 0.14, k = 2.1e5, g = 9.81;
+  Coupled2dDesc d;
+  d.plate = plate(2.9e7, L, H, 4, 6);
+  d.plate.poisson_ratio = 0.135;
+  d.plate.density = 2789.0;
+  d.plate.beta = 0.49, d.plate.gamma = 0.9;
+  d.plate.dt = 1.6e-3;
+  d.plate.supports.push_back({PlateEdge::bottom, {true, true}, false});
+  d.dem.integrator = integrator;
+  d.dem.damping_ratio = 0.7;
+  d.dem.gravity = {0.0, -g};
+  d.dem.particles.push_back(disk(m, r, k, x, H + r - m * g / k, 0.0, 0.0));
+  d.dem_substeps = 10;
+  return d;
+}
+
 /// Total linear momentum along `axis`: the plate's and the disks'.
 inline double total_momentum(const Coupled2dModel& m, const Coupled2dState& s, int axis) {
   double p = plate_momentum(m.plate, s.plate, axis);

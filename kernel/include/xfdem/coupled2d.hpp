@@ -106,6 +106,13 @@ struct Coupled2dModel {
   /// hertz with discontinuities: the same of each boundary segment's material
   /// (an inclusion's where the segment bounds it); empty otherwise (the plate's).
   std::vector<double> segment_inv_e, segment_inv_g;
+  /// Rolling resistance: each segment's turning compliance under a couple at
+  /// its ends, (1/m_a + 1/m_b)/|L|² (1/(kg m²); m the lumped mass at each
+  /// end's material point across the segment, Σ N² / m_node over the free
+  /// standard unknowns): the wall's 1/I in the torque that stops the
+  /// relative rolling within a substep, as a pair's 1/I_i + 1/I_j. Empty
+  /// otherwise.
+  std::vector<double> segment_inv_turn;
   bool beyond_stable_step = false;
   EnergyCheck energy_check;  ///< Coupled2dDesc::energy_check
 };

@@ -300,6 +300,21 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
                                              ct.partner_weight * segment_spin(m.boundary, w, ct.partner, m.dt);
     wall.spin = &spin;
     segment_compliance(m, ct.segment, wall.inv_e, wall.inv_g);
+    // Rolling resistance holds the disk within the substep h at every
+    // evaluation, its contact's tangential torque included: a disk resting on
+    // the plate's bent top (a tilted normal) needs a couple against that torque,
+    // which the plane's clamp gives only while the disk rolls, at h τ_t / I
+    // (it crept); and the stepper's re-evaluation at a window's start (h = 0)
+    // would otherwise take the uncapped torque ±μ_r r F_n, whose sign flips
+    // with the pass's boundary spin (windows left at a jump).
+    wall.hold = m.dem.dt;
+    // The boundary turns back under the couple: over a light plate's segment
+    // the disk's I/h alone would make the window's map far too steep in the
+    // boundary's spin (the passes could not settle).
+    if (!m.segment_inv_turn.empty())
+      wall.inv_inertia = ct.partner < 0 ? m.segment_inv_turn[static_cast<std::size_t>(ct.segment)]
+                                        : (1.0 - ct.partner_weight) * m.segment_inv_turn[static_cast<std::size_t>(ct.segment)] +
+                                              ct.partner_weight * m.segment_inv_turn[static_cast<std::size_t>(ct.partner)];
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
     // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
     // opposite, and the sliding velocity is that of the disk's point at p.
@@ -704,6 +719,34 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   }
 
   const auto dofs = static_cast<std::size_t>(m.plate.dofs);
+  if (desc.dem.rolling_friction > 0) {
+    // Each segment's turning compliance under a couple at its ends: a force
+    // across it at each end, spread to the unknowns, over the lumped masses.
+    std::vector<double> f(dofs, 0.0);
+    auto inv_mass = [&](const PlateMaterialPoint& at, const double across[2]) {
+      plate_spread_force(m.plate, at, across, f.data());
+      double sum = 0;
+      for (int n = 0; n < m.plate.nodes; ++n)
+        for (int c = 0; c < 2; ++c) {
+          const int dof = m.plate.node_dof[static_cast<std::size_t>(2 * n + c)];
+          const double mass = m.plate.node_mass[static_cast<std::size_t>(n)];
+          if (dof >= 0 && mass > 0) sum += f[static_cast<std::size_t>(dof)] * f[static_cast<std::size_t>(dof)] / mass;
+        }
+      std::fill(f.begin(), f.end(), 0.0);
+      return sum;
+    };
+    m.segment_inv_turn.assign(m.boundary.segments.size(), 0.0);
+    for (std::size_t k = 0; k < m.boundary.segments.size(); ++k) {
+      const PlateBoundarySegment& seg = m.boundary.segments[k];
+      const PlateBoundaryVertex& va = m.boundary.vertices[static_cast<std::size_t>(seg.a)];
+      const PlateBoundaryVertex& vb = m.boundary.vertices[static_cast<std::size_t>(seg.b)];
+      const double l[2] = {vb.x[0] - va.x[0], vb.x[1] - va.x[1]};
+      const double length2 = l[0] * l[0] + l[1] * l[1];
+      if (!(length2 > 0)) continue;
+      const double across[2] = {-l[1] / std::sqrt(length2), l[0] / std::sqrt(length2)};
+      m.segment_inv_turn[k] = (inv_mass(va.at, across) + inv_mass(vb.at, across)) / length2;
+    }
+  }
   const std::size_t coords = 2 * m.boundary.vertices.size();
   w.plate.external_force.assign(dofs, 0.0);
   s.coupling_force.assign(dofs, 0.0);

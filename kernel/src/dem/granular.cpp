@@ -214,7 +214,8 @@ template <int D, class Kind>
                                                                const double (&wall_velocity)[D], const double* wall_spin,
                                                                double inv_e, double inv_g, double arm, double overlap,
                                                                const double (&vi)[D], const double* wi, double h,
-                                                               double (&xi)[D]) {
+                                                               double (&xi)[D], double hold = 0.0,
+                                                               double wall_inv_inertia = 0.0) {
   constexpr int S = spin_components(D);
   constexpr bool hertz = Kind::law == ContactLaw::hertz;
   ContactResult<D> r{};
@@ -252,12 +253,21 @@ template <int D, class Kind>
   if constexpr (Kind::rolling) {
     double rolling[S], along = 0;
     for (int k = 0; k < S; ++k) rolling[k] = wall_spin != nullptr ? wi[k] - wall_spin[k] : wi[k];
+    double step = h, inv_inertia = m.inv_inertia[i];
+    if (hold > 0) {
+      // −τ_t − (ω − Ω)/(hold (1/I + 1/I_wall)) below the cap: the couple that
+      // cancels this contact's tangential torque and stops the relative
+      // rolling within `hold`, the wall turning back under it too.
+      inv_inertia += wall_inv_inertia;
+      for (int k = 0; k < S; ++k) rolling[k] += hold * inv_inertia * r.torque_j[k];
+      step = hold;
+    }
     if constexpr (D == 3) {
       for (int k = 0; k < S; ++k) along += rolling[k] * r.normal[k];
       for (int k = 0; k < S; ++k) rolling[k] -= along * r.normal[k];
     }
     double roll[S];
-    rolling_torque<S>(m.rolling_friction, m.radius[i], r.fn, rolling, m.inv_inertia[i], h, roll);
+    rolling_torque<S>(m.rolling_friction, m.radius[i], r.fn, rolling, inv_inertia, step, roll);
     for (int k = 0; k < S; ++k) {
       r.torque_j[k] += roll[k];
       r.torque_i[k] = -roll[k];
@@ -304,7 +314,7 @@ ContactResult<D> wall_contact(const DemModel<D>& m, std::int32_t i, const WallCo
                               const double (&vi)[D], const double* wi, double h, double (&xi)[D]) {
   return with_law<D>(m, [&]<class Kind>(Kind) {
     return wall_contact_as<D, Kind>(LawView<D>(m), i, wall.normal, wall.speed, wall.velocity, wall.spin, wall.inv_e,
-                                    wall.inv_g, wall.arm, overlap, vi, wi, h, xi);
+                                    wall.inv_g, wall.arm, overlap, vi, wi, h, xi, wall.hold, wall.inv_inertia);
   });
 }
 
