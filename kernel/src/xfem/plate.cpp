@@ -745,11 +745,12 @@ constexpr int kMaxGradedSegments = 64;
 /// units of the parameter, in the physical metric): an integrand singular at
 /// that point is analytic along the line but for the complex pair tf ± i dt.
 /// The line is split at the foot; a segment at u from the foot is at most
-/// max(u, dt)/2 long, so the pair stays ≥ 4 half-lengths from its centre and
-/// 7-point Gauss converges there to ~1e-13 of its part.
+/// grade × max(u, dt) long. With grade ½ the pair stays ≥ 4 half-lengths from
+/// the segment's centre (Bernstein ellipse ρ ≥ 4.6; 7-point Gauss converges
+/// there to ~1e-13 of its part); with grade 1, ρ ≥ 2.4.
 /// (dt below 1e-9 counts as 1e-9: a point on the line grades to 1e-9 of it.)
 template <class S>
-void graded_segments(double tf, double dt_in, S&& seg) {
+void graded_segments(double tf, double dt_in, double grade, S&& seg) {
   const double dt = std::max(dt_in, 1e-9);
   for (int dir = 0; dir < 2; ++dir) {
     // Distances from the foot of the run's start and end: towards 1 over
@@ -757,8 +758,8 @@ void graded_segments(double tf, double dt_in, S&& seg) {
     double u = dir == 0 ? std::max(0.0, -tf) : std::max(0.0, tf - 1.0);
     const double end = dir == 0 ? 1.0 - tf : tf;
     for (int k = 0; k < kMaxGradedSegments && u < end; ++k) {
-      const bool last = k + 1 == kMaxGradedSegments || u + 0.5 * std::max(u, dt) >= end;
-      const double w = last ? end : u + 0.5 * std::max(u, dt);
+      const bool last = k + 1 == kMaxGradedSegments || u + grade * std::max(u, dt) >= end;
+      const double w = last ? end : u + grade * std::max(u, dt);
       // The line's ends exact.
       if (dir == 0)
         seg(tf + u, last ? 1.0 : tf + w);
@@ -779,17 +780,38 @@ void foot_on_line(Point2 p, Point2 q, Point2 P, double hx, double hy, double& tf
   dt = std::fabs(px * ey - py * ex) / len2;
 }
 
+/// Points of the polar rule: radial and along-edge Gauss orders (5 or 7) and
+/// the edges' grading (graded_segments).
+struct PolarRule {
+  int radial = 7, along = 7;
+  double grade = 0.5;
+};
+/// The element matrices: 7 radial points (the mass's N_a F_i N_b F_j is of
+/// degree 13 in s), edges graded by ½.
+constexpr PolarRule kAssemblyRule{7, 7, 0.5};
+/// The strain energy: the same points along the edges (so it is the
+/// assembled K's quadratic form to round-off), 5 radially (εᵀDε is of degree
+/// ≤ 9 in s: exact with either).
+constexpr PolarRule kEnergyRule{5, 7, 0.5};
+/// The interaction integral (a probe, ~1e-3 of K from the mesh): 5 × 5 on
+/// edges graded by 1.
+constexpr PolarRule kProbeRule{5, 5, 1.0};
+
 /// Calls g(xi, eta, weight) at the points of the polar rule of a triangle
 /// (parent coordinates) about a point P (cell sides hx, hy): the triangle is
 /// the signed sum of the triangles (P, p, q) over its edges pq (P need not
 /// be inside it), each integrated in (s, b) with x = P + s² (p − P + b (q − p)),
-/// 7-point Gauss in both. With F ~ √r, ∇F ~ 1/√r and the Jacobian ~ r, every
+/// Gauss in both (`rule`). With F ~ √r, ∇F ~ 1/√r and the Jacobian ~ r, every
 /// integrand of the cell (products of the bilinear N_a, the branch functions
 /// and their gradients, constants and linear functions) is a polynomial of
-/// degree ≤ 13 in s on each ray from P: exact radially. Along an edge it is
+/// degree ≤ 13 in s on each ray from P: exact radially with 7 points. Along an edge it is
 /// smooth but not polynomial, singular where P is (graded_segments).
 template <class G>
-void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, G&& g) {
+void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, const PolarRule& rule, G&& g) {
+  const double* radial_x = rule.radial == 7 ? kGl7x : kGl5x;
+  const double* radial_w = rule.radial == 7 ? kGl7w : kGl5w;
+  const double* along_x = rule.along == 7 ? kGl7x : kGl5x;
+  const double* along_w = rule.along == 7 ? kGl7w : kGl5w;
   const double area2 = (t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) - (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]);
   if (area2 == 0.0) return;
   const double orient = area2 > 0.0 ? 1.0 : -1.0;
@@ -800,15 +822,15 @@ void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, G
     if (c == 0.0) continue;
     double tf = 0.0, dt = 0.0;
     foot_on_line(p, q, P, hx, hy, tf, dt);
-    graded_segments(tf, dt, [&](double t0, double t1) {
+    graded_segments(tf, dt, rule.grade, [&](double t0, double t1) {
       const double ax = px + t0 * ex, ay = py + t0 * ey;  // the segment's start from P
       const double sx = (t1 - t0) * ex, sy = (t1 - t0) * ey;
       const double cs = orient * c * (t1 - t0);
-      for (int ib = 0; ib < 7; ++ib) {
-        const double rx = ax + kGl7x[ib] * sx, ry = ay + kGl7x[ib] * sy;
-        for (int is = 0; is < 7; ++is) {
-          const double s = kGl7x[is], a = s * s;
-          g(P[0] + a * rx, P[1] + a * ry, kGl7w[is] * kGl7w[ib] * 2.0 * s * a * cs);
+      for (int ib = 0; ib < rule.along; ++ib) {
+        const double rx = ax + along_x[ib] * sx, ry = ay + along_x[ib] * sy;
+        for (int is = 0; is < rule.radial; ++is) {
+          const double s = radial_x[is], a = s * s;
+          g(P[0] + a * rx, P[1] + a * ry, radial_w[is] * along_w[ib] * 2.0 * s * a * cs);
         }
       }
     });
@@ -826,7 +848,7 @@ void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, G
 /// functions: the same pieces (a tip's cell or a cell the tip touches: its
 /// fan), each by the polar rule about the tip (polar_piece).
 template <class F>
-void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
+void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRule& rule = kAssemblyRule) {
   if (v.cut < 0 && !v.tip_functions) {
     if (v.material < 0) return;
     const double g = 1.0 / std::sqrt(3.0);
@@ -847,7 +869,7 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
       const xfem::TrianglePiece& q = pieces[p];
       const int material = material_of(m, v, q.side);
       if (material < 0) continue;
-      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
+      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
     }
     return;
   }
@@ -923,7 +945,7 @@ void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegme
       const Point2 a = {kXi[g.from], kEta[g.from]}, b = {kXi[g.to], kEta[g.to]};
       double tf = 0.0, dt = 0.0;
       foot_on_line(a, b, polar_apex(m, v), m.cell_size[0], m.cell_size[1], tf, dt);
-      graded_segments((tf - s0) / (s1 - s0), dt / (s1 - s0), [&](double t0, double t1) {
+      graded_segments((tf - s0) / (s1 - s0), dt / (s1 - s0), 0.5, [&](double t0, double t1) {
         for (int qp = 0; qp < 7; ++qp) {
           const double sp = s0 + (t0 + kGl7x[qp] * (t1 - t0)) * (s1 - s0);
           const double xi = kXi[g.from] + sp * (kXi[g.to] - kXi[g.from]);
@@ -2758,7 +2780,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
           value += qp * (acc_local[0] * aux.grad_u[0][0] + acc_local[1] * aux.grad_u[1][0]);
           integral[mode] += w * area * value;
         }
-      });
+      }, kProbeRule);
     }
   if (e_star == 0.0) return;  // q = 0 everywhere: no node within the radius
   // I = 2 (K_I K_I^aux + K_II K_II^aux) / E*.
@@ -2818,7 +2840,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
           q += eps[r] * (dd[static_cast<std::size_t>(3 * r)] * eps[0] + dd[static_cast<std::size_t>(3 * r + 1)] * eps[1] +
                          dd[static_cast<std::size_t>(3 * r + 2)] * eps[2]);
         elastic += w * wp * q;
-      });
+      }, kEnergyRule);
     }
   for (const PlateModel::FacePoint& fp : m.face_points) {
     double gn = 0.0, gt = 0.0;
