@@ -805,9 +805,10 @@ constexpr PolarRule kProbeRule{5, 5, 1.0};
 /// integrand of the cell (products of the bilinear N_a, the branch functions
 /// and their gradients, constants and linear functions) is a polynomial of
 /// degree ≤ 13 in s on each ray from P: exact radially with 7 points. Along an edge it is
-/// smooth but not polynomial, singular where P is (graded_segments).
+/// smooth but not polynomial, singular where P is (graded_segments). Edges
+/// whose bit is set in `skip` are left out.
 template <class G>
-void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, const PolarRule& rule, G&& g) {
+void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, const PolarRule& rule, unsigned skip, G&& g) {
   const double* radial_x = rule.radial == 7 ? kGl7x : kGl5x;
   const double* radial_w = rule.radial == 7 ? kGl7w : kGl5w;
   const double* along_x = rule.along == 7 ? kGl7x : kGl5x;
@@ -816,6 +817,7 @@ void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, c
   if (area2 == 0.0) return;
   const double orient = area2 > 0.0 ? 1.0 : -1.0;
   for (int e = 0; e < 3; ++e) {
+    if (skip & (1u << e)) continue;
     const Point2 p = t.v[e], q = t.v[(e + 1) % 3];
     const double px = p[0] - P[0], py = p[1] - P[1], ex = q[0] - p[0], ey = q[1] - p[1];
     const double c = px * ey - py * ex;  // twice the signed area of (P, p, q)
@@ -865,11 +867,44 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
     // Every piece of a cell with branch functions is integrated polar about
     // the tip (polar_point).
     const Point2 apex = polar_apex(m, v);
+    // An edge two pieces share with opposite senses, where the integrand is
+    // the same function on both (the same side, and the same sub-triangle
+    // where an inclusion's ridge is), cancels in the signed sums: left out
+    // of both (the pieces' inner edges; a third of the points of a whole cell).
+    const bool ridge = v.cut >= 0 && m.desc.discontinuities[static_cast<std::size_t>(v.cut)].kind ==
+                                         PlateDiscontinuity::Kind::inclusion;
+    auto sense = [](const xfem::TrianglePiece& t) {
+      const double a2 = (t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) - (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]);
+      return a2 > 0.0 ? 1 : a2 < 0.0 ? -1 : 0;
+    };
+    unsigned skip[kMaxPieces] = {};
+    for (int p = 0; p < count; ++p) {
+      const int sp = sense(pieces[p]);
+      if (sp == 0) continue;
+      for (int e = 0; e < 3; ++e) {
+        if (skip[p] & (1u << e)) continue;
+        const Point2 a = pieces[p].v[e], b = pieces[p].v[(e + 1) % 3];
+        for (int r = p + 1; r < count && !(skip[p] & (1u << e)); ++r) {
+          if (pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
+          const int sr = sense(pieces[r]);
+          if (sr == 0) continue;
+          for (int k = 0; k < 3; ++k) {
+            if (skip[r] & (1u << k)) continue;
+            const Point2 c = pieces[r].v[k], d = pieces[r].v[(k + 1) % 3];
+            if ((c == b && d == a && sr == sp) || (c == a && d == b && sr == -sp)) {
+              skip[p] |= 1u << e;
+              skip[r] |= 1u << k;
+              break;
+            }
+          }
+        }
+      }
+    }
     for (int p = 0; p < count; ++p) {
       const xfem::TrianglePiece& q = pieces[p];
       const int material = material_of(m, v, q.side);
       if (material < 0) continue;
-      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
+      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, skip[p], [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
     }
     return;
   }
