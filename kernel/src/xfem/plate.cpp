@@ -865,7 +865,7 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
   const int count = triangle_pieces(m, v, pieces, triangle);
   if (v.tip_functions) {
     // Every piece of a cell with branch functions is integrated polar about
-    // the tip (polar_point).
+    // the tip (polar_piece).
     const Point2 apex = polar_apex(m, v);
     // An edge two pieces share with opposite senses, where the integrand is
     // the same function on both (the same side, and the same sub-triangle
