@@ -789,10 +789,6 @@ struct PolarRule {
 /// The element matrices: 7 radial points (the mass's N_a F_i N_b F_j is of
 /// degree 13 in s), edges graded by ½.
 constexpr PolarRule kAssemblyRule{7, 7, 0.5};
-/// The strain energy: the same points along the edges (so it is the
-/// assembled K's quadratic form to round-off), 5 radially (εᵀDε is of degree
-/// ≤ 9 in s: exact with either).
-constexpr PolarRule kEnergyRule{5, 7, 0.5};
 /// The interaction integral (a probe, ~1e-3 of K from the mesh): 5 × 5 on
 /// edges graded by 1.
 constexpr PolarRule kProbeRule{5, 5, 1.0};
@@ -2851,6 +2847,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   const double(&dm)[3][3] = m.elasticity;
   double elastic = 0.0;
   CellView v;
+  std::size_t other = 0;  // the cell's index among the non-plain ones (other_cell_*)
   for (int j = 0; j < m.desc.cells[1]; ++j)
     for (int i = 0; i < m.desc.cells[0]; ++i) {
       make_view(m, i, j, v);
@@ -2864,6 +2861,39 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
         }
         continue;
       }
+      const std::size_t oc = other++;
+      if (v.tip_functions) {
+        // ½ u_eᵀ K_e u_e from the stored element stiffness (the polar rule's
+        // quadratic form, without its many points), after removing from the
+        // nodes' standard components the cell's rigid motion (their mean
+        // translation and rotation about the centre): K_e annihilates it, and
+        // without it nothing is lost to the cancellation of a drifting plate.
+        const int nf = 2 * v.count;
+        double ue[2 * kMaxCellFunctions];
+        for (int a = 0; a < nf; ++a) ue[a] = coefficient(v, s.u.data(), true, a / 2, a % 2);
+        double t[2] = {0.0, 0.0}, num = 0.0, den = 0.0;
+        for (int a = 0; a < 4; ++a) t[0] += 0.25 * ue[2 * a], t[1] += 0.25 * ue[2 * a + 1];
+        for (int a = 0; a < 4; ++a) {
+          const double dx = 0.5 * kXi[a] * m.cell_size[0], dy = 0.5 * kEta[a] * m.cell_size[1];
+          num += dx * (ue[2 * a + 1] - t[1]) - dy * (ue[2 * a] - t[0]);
+          den += dx * dx + dy * dy;
+        }
+        const double omega = num / den;
+        for (int a = 0; a < 4; ++a) {
+          const double dx = 0.5 * kXi[a] * m.cell_size[0], dy = 0.5 * kEta[a] * m.cell_size[1];
+          ue[2 * a] -= t[0] - omega * dy;
+          ue[2 * a + 1] -= t[1] + omega * dx;
+        }
+        const double* k = m.other_cell_matrix.data() + m.other_cell_matrix_start[oc];
+        double q = 0.0;
+        for (int a = 0; a < nf; ++a) {
+          double row = 0.0;
+          for (int b = 0; b < nf; ++b) row += k[a * nf + b] * ue[b];
+          q += ue[a] * row;
+        }
+        elastic += 0.5 * q;
+        continue;
+      }
       for_each_point(m, v, [&](double xi, double eta, double wp, int tri, int side, int material) {
         BasisAt basis;
         evaluate(m, v, xi, eta, tri, side, basis);
@@ -2875,7 +2905,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
           q += eps[r] * (dd[static_cast<std::size_t>(3 * r)] * eps[0] + dd[static_cast<std::size_t>(3 * r + 1)] * eps[1] +
                          dd[static_cast<std::size_t>(3 * r + 2)] * eps[2]);
         elastic += w * wp * q;
-      }, kEnergyRule);
+      });
     }
   for (const PlateModel::FacePoint& fp : m.face_points) {
     double gn = 0.0, gt = 0.0;
