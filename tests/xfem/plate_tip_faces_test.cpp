@@ -93,14 +93,13 @@ constexpr double kW = 1.0, kH = 3.0, kA = 0.4125, kYc = 1.525, kRadius = 0.1;
 
 // (a) Tied faces with a tip, uniform tension across them: as k grows, the
 // plate tends to the uncracked one (σ_yy = σ everywhere) as 1/k. For k_n =
-// 10, 100, 1000 E/h the displacement differs by at most 2.5 σ/k_n (the faces'
+// 10 … 10⁶ E/h the displacement differs by at most 2.5 σ/k_n (the faces'
 // opening, ≈ σ/k_n, is the departure; near the tip the field bends by about
 // twice it), the stress by at most 0.3 σ E/(k_n h) (that bend over a cell),
-// and the displacement difference falls by 10 ± 0.5 per decade of k. Stiffer
-// (10⁴ … 10⁶ E/h) the difference stops falling at a floor near the tip that
-// does not move with k while the faces' jump keeps falling as 1/k (printed;
-// bounded here by about twice its measured size: 2e-6 of the top edge's
-// displacement σH/E and 4e-4 σ).
+// and the displacement difference falls by 10 ± 0.5 per decade of k, over
+// all six decades (the cells with branch functions are integrated exactly
+// enough that no floor is left; with the former collapsed rule the
+// difference stopped falling at 1.1e-6 σH/E and 1.8e-4 σ from 10⁴ E/h on).
 TEST(PlateTipFaces, StiffTiedFacesWithATipGiveTheUncrackedPlate) {
   double last_du = 0.0;
   const double h = kW / kNx;
@@ -121,9 +120,9 @@ TEST(PlateTipFaces, StiffTiedFacesWithATipGiveTheUncrackedPlate) {
                 scale, du, du * kn / kSigma, ds / kSigma, ds / kSigma * scale, opening, opening * kn / kSigma);
     EXPECT_GT(opening, 0.0);
     EXPECT_LE(opening, 1.0 * kSigma / kn);
-    EXPECT_LE(du, std::max(2.5 * kSigma / kn, 2e-6 * kSigma * kH / kE));
-    EXPECT_LE(ds, std::max(0.3 * kSigma / scale, 4e-4 * kSigma));
-    if (last_du > 0.0 && scale <= 1e3) {
+    EXPECT_LE(du, 2.5 * kSigma / kn);
+    EXPECT_LE(ds, 0.3 * kSigma / scale);
+    if (last_du > 0.0) {
       std::printf("  displacement error ratio to the previous k: %.3f\n", last_du / du);
       EXPECT_NEAR(last_du / du, 10.0, 0.5);
     }

@@ -635,14 +635,7 @@ constexpr double kGl5x[5] = {0.5 * (1.0 - 0.9061798459386640), 0.5 * (1.0 - 0.53
 constexpr double kGl5w[5] = {0.5 * 0.2369268850561891, 0.5 * 0.4786286704993665, 0.5 * 0.5688888888888889,
                              0.5 * 0.4786286704993665, 0.5 * 0.2369268850561891};
 
-/// Calls f(xi, eta, weight, tri, side, material) for the quadrature points of
-/// the cell's material (weight in parent area: × hx hy / 4 for the physical).
-/// An uncut cell: the 2 × 2 Gauss rule (exact for its functions). A cut cell:
-/// its four sub-triangles split along the linear level set, each piece on its
-/// side by membership, a collapsed 5 × 5 Gauss rule on each (exact to degree 8
-/// in the piece: the ridge's products included), weights from the piece's own area.
-/// Splits per edge of the tip cell's fan (3: the fan's angular rule integrates
-/// |∇F|² over a cell to ~1e-9, tests/xfem/crack_tip_test.cpp).
+/// Splits per edge of the tip cell's fan (bounds the angle of its triangles).
 constexpr int kTipSplits = 3;
 constexpr int kMaxPieces = 16;  // ≥ 4 × 3 split sub-triangles and 5 edges × kTipSplits fan triangles
 
@@ -713,8 +706,147 @@ int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece 
   return count;
 }
 
+// Gauss-Legendre, 7 points on [0, 1] (exact to degree 13).
+constexpr double kGl7x[7] = {0.5 * (1.0 - 0.9491079123427585), 0.5 * (1.0 - 0.7415311855993945),
+                             0.5 * (1.0 - 0.4058451513773972), 0.5,
+                             0.5 * (1.0 + 0.4058451513773972), 0.5 * (1.0 + 0.7415311855993945),
+                             0.5 * (1.0 + 0.9491079123427585)};
+constexpr double kGl7w[7] = {0.5 * 0.1294849661688697, 0.5 * 0.2797053914892766, 0.5 * 0.3818300505051189,
+                             0.5 * 0.4179591836734694, 0.5 * 0.3818300505051189, 0.5 * 0.2797053914892766,
+                             0.5 * 0.1294849661688697};
+
+/// The centre of a cell's polar rule (parent coordinates): the apex of the
+/// fan of a tip's cell or of a cell the tip touches; otherwise the nearest
+/// tip whose branch functions the cell carries (the others are integrated
+/// as smooth functions).
+Point2 polar_apex(const PlateModel& m, const CellView& v) {
+  if (v.tip_cell >= 0 || v.touch_tip >= 0)
+    return fan_centre(v, m.tips[static_cast<std::size_t>(v.tip_cell >= 0 ? v.tip_cell : v.touch_tip)]);
+  Point2 best{};
+  double best_d2 = INFINITY;
+  for (int f = 0; f < v.count; ++f) {
+    if (v.tip[f] < 0) continue;
+    const PlateModel::Tip& t = m.tips[static_cast<std::size_t>(v.tip[f])];
+    Point2 p{};
+    for (int c = 0; c < 2; ++c) p[c] = 2.0 * (t.origin[c] - v.x0[c]) / (v.x1[c] - v.x0[c]) - 1.0;
+    const double d2 = p[0] * p[0] + p[1] * p[1];
+    if (d2 < best_d2) best_d2 = d2, best = p;
+  }
+  return best;
+}
+
+/// At most this many segments per run (the grading reaches a point 1e-11 of
+/// the run's length from the line; beyond, the last segment takes the rest,
+/// its part being that small).
+constexpr int kMaxGradedSegments = 64;
+
+/// Calls seg(t0, t1) for the segments of [0, 1] (a line's parameter) graded
+/// away from tf, the foot of a point at distance dt from the line (both in
+/// units of the parameter, in the physical metric): an integrand singular at
+/// that point is analytic along the line but for the complex pair tf ± i dt.
+/// The line is split at the foot; a segment at u from the foot is at most
+/// grade × max(u, dt) long. With grade ½ the pair stays ≥ 4 half-lengths from
+/// the segment's centre (Bernstein ellipse ρ ≥ 4.6; 7-point Gauss converges
+/// there to ~1e-13 of its part); with grade 1, ρ ≥ 2.4.
+/// (dt below 1e-9 counts as 1e-9: a point on the line grades to 1e-9 of it.)
+template <class S>
+void graded_segments(double tf, double dt_in, double grade, S&& seg) {
+  const double dt = std::max(dt_in, 1e-9);
+  for (int dir = 0; dir < 2; ++dir) {
+    // Distances from the foot of the run's start and end: towards 1 over
+    // [max(tf, 0), 1], towards 0 over [0, min(tf, 1)].
+    double u = dir == 0 ? std::max(0.0, -tf) : std::max(0.0, tf - 1.0);
+    const double end = dir == 0 ? 1.0 - tf : tf;
+    for (int k = 0; k < kMaxGradedSegments && u < end; ++k) {
+      const bool last = k + 1 == kMaxGradedSegments || u + grade * std::max(u, dt) >= end;
+      const double w = last ? end : u + grade * std::max(u, dt);
+      // The line's ends exact.
+      if (dir == 0)
+        seg(tf + u, last ? 1.0 : tf + w);
+      else
+        seg(last ? 0.0 : tf - w, tf - u);
+      u = w;
+    }
+  }
+}
+
+/// The foot (parameter along p → q) of P on the line pq and P's distance
+/// from it in units of the parameter, in the metric of a cell of sides
+/// (hx, hy) (parent coordinates in, physical distances).
+void foot_on_line(Point2 p, Point2 q, Point2 P, double hx, double hy, double& tf, double& dt) {
+  const double px = (p[0] - P[0]) * hx, py = (p[1] - P[1]) * hy, ex = (q[0] - p[0]) * hx, ey = (q[1] - p[1]) * hy;
+  const double len2 = ex * ex + ey * ey;
+  tf = -(px * ex + py * ey) / len2;
+  dt = std::fabs(px * ey - py * ex) / len2;
+}
+
+/// Points of the polar rule: radial and along-edge Gauss orders (5 or 7) and
+/// the edges' grading (graded_segments).
+struct PolarRule {
+  int radial = 7, along = 7;
+  double grade = 0.5;
+};
+/// The element matrices: 7 radial points (the mass's N_a F_i N_b F_j is of
+/// degree 13 in s), edges graded by ½.
+constexpr PolarRule kAssemblyRule{7, 7, 0.5};
+/// The interaction integral (a probe, ~1e-3 of K from the mesh): 5 × 5 on
+/// edges graded by 1.
+constexpr PolarRule kProbeRule{5, 5, 1.0};
+
+/// Calls g(xi, eta, weight) at the points of the polar rule of a triangle
+/// (parent coordinates) about a point P (cell sides hx, hy): the triangle is
+/// the signed sum of the triangles (P, p, q) over its edges pq (P need not
+/// be inside it), each integrated in (s, b) with x = P + s² (p − P + b (q − p)),
+/// Gauss in both (`rule`). With F ~ √r, ∇F ~ 1/√r and the Jacobian ~ r, every
+/// integrand of the cell (products of the bilinear N_a, the branch functions
+/// and their gradients, constants and linear functions) is a polynomial of
+/// degree ≤ 13 in s on each ray from P: exact radially with 7 points. Along an edge it is
+/// smooth but not polynomial, singular where P is (graded_segments). Edges
+/// whose bit is set in `skip` are left out.
+template <class G>
+void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, const PolarRule& rule, unsigned skip, G&& g) {
+  const double* radial_x = rule.radial == 7 ? kGl7x : kGl5x;
+  const double* radial_w = rule.radial == 7 ? kGl7w : kGl5w;
+  const double* along_x = rule.along == 7 ? kGl7x : kGl5x;
+  const double* along_w = rule.along == 7 ? kGl7w : kGl5w;
+  const double area2 = (t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) - (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]);
+  if (area2 == 0.0) return;
+  const double orient = area2 > 0.0 ? 1.0 : -1.0;
+  for (int e = 0; e < 3; ++e) {
+    if (skip & (1u << e)) continue;
+    const Point2 p = t.v[e], q = t.v[(e + 1) % 3];
+    const double px = p[0] - P[0], py = p[1] - P[1], ex = q[0] - p[0], ey = q[1] - p[1];
+    const double c = px * ey - py * ex;  // twice the signed area of (P, p, q)
+    if (c == 0.0) continue;
+    double tf = 0.0, dt = 0.0;
+    foot_on_line(p, q, P, hx, hy, tf, dt);
+    graded_segments(tf, dt, rule.grade, [&](double t0, double t1) {
+      const double ax = px + t0 * ex, ay = py + t0 * ey;  // the segment's start from P
+      const double sx = (t1 - t0) * ex, sy = (t1 - t0) * ey;
+      const double cs = orient * c * (t1 - t0);
+      for (int ib = 0; ib < rule.along; ++ib) {
+        const double rx = ax + along_x[ib] * sx, ry = ay + along_x[ib] * sy;
+        for (int is = 0; is < rule.radial; ++is) {
+          const double s = radial_x[is], a = s * s;
+          g(P[0] + a * rx, P[1] + a * ry, radial_w[is] * along_w[ib] * 2.0 * s * a * cs);
+        }
+      }
+    });
+  }
+}
+
+/// Calls f(xi, eta, weight, tri, side, material) for the quadrature points of
+/// the cell's material (weight in parent area: × hx hy / 4 for the physical;
+/// negative weights occur in the polar rule's signed triangles).
+/// An uncut cell: the 2 × 2 Gauss rule (exact for its functions). A cut cell
+/// without branch functions: its four sub-triangles split along the linear
+/// level set, each piece on its side by membership, a collapsed 5 × 5 Gauss
+/// rule on each (exact to degree 8 in the piece: the ridge's products
+/// included), weights from the piece's own area. A cell with branch
+/// functions: the same pieces (a tip's cell or a cell the tip touches: its
+/// fan), each by the polar rule about the tip (polar_piece).
 template <class F>
-void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
+void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRule& rule = kAssemblyRule) {
   if (v.cut < 0 && !v.tip_functions) {
     if (v.material < 0) return;
     const double g = 1.0 / std::sqrt(3.0);
@@ -727,29 +859,56 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f) {
   xfem::TrianglePiece pieces[kMaxPieces];
   int triangle[kMaxPieces];
   const int count = triangle_pieces(m, v, pieces, triangle);
-  // Branch functions are not polynomials, so the collapsed rule's error
-  // depends on which vertex is its apex. Off the fans (whose apex is the
-  // tip), a piece of a cell with branch functions takes as apex its vertex
-  // nearest the first corner of its sub-triangle (that corner itself when the
-  // piece is the whole sub-triangle). A level set passing ε from a node
-  // splits a sub-triangle into a sliver and a piece that tends to the whole
-  // sub-triangle with its vertices in another order; with this apex the
-  // rule tends to the uncut cell's, and so does the answer (the tiny-cut rule).
-  const bool nearest_apex = v.tip_functions && v.tip_cell < 0 && v.touch_tip < 0;
+  if (v.tip_functions) {
+    // Every piece of a cell with branch functions is integrated polar about
+    // the tip (polar_piece).
+    const Point2 apex = polar_apex(m, v);
+    // An edge two pieces share with opposite senses, where the integrand is
+    // the same function on both (the same side, and the same sub-triangle
+    // where an inclusion's ridge is), cancels in the signed sums: left out
+    // of both (the pieces' inner edges; a third of the points of a whole cell).
+    const bool ridge = v.cut >= 0 && m.desc.discontinuities[static_cast<std::size_t>(v.cut)].kind ==
+                                         PlateDiscontinuity::Kind::inclusion;
+    auto sense = [](const xfem::TrianglePiece& t) {
+      const double a2 = (t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) - (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]);
+      return a2 > 0.0 ? 1 : a2 < 0.0 ? -1 : 0;
+    };
+    unsigned skip[kMaxPieces] = {};
+    for (int p = 0; p < count; ++p) {
+      const int sp = sense(pieces[p]);
+      if (sp == 0) continue;
+      for (int e = 0; e < 3; ++e) {
+        if (skip[p] & (1u << e)) continue;
+        const Point2 a = pieces[p].v[e], b = pieces[p].v[(e + 1) % 3];
+        for (int r = p + 1; r < count && !(skip[p] & (1u << e)); ++r) {
+          if (pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
+          const int sr = sense(pieces[r]);
+          if (sr == 0) continue;
+          for (int k = 0; k < 3; ++k) {
+            if (skip[r] & (1u << k)) continue;
+            const Point2 c = pieces[r].v[k], d = pieces[r].v[(k + 1) % 3];
+            if ((c == b && d == a && sr == sp) || (c == a && d == b && sr == -sp)) {
+              skip[p] |= 1u << e;
+              skip[r] |= 1u << k;
+              break;
+            }
+          }
+        }
+      }
+    }
+    for (int p = 0; p < count; ++p) {
+      const xfem::TrianglePiece& q = pieces[p];
+      const int material = material_of(m, v, q.side);
+      if (material < 0) continue;
+      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, skip[p], [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
+    }
+    return;
+  }
   for (int p = 0; p < count; ++p) {
     const xfem::TrianglePiece& q = pieces[p];
     const int material = material_of(m, v, q.side);
     if (material < 0) continue;
-    int r = 0;
-    if (nearest_apex) {
-      const Point2 corner = {kXi[triangle[p]], kEta[triangle[p]]};
-      double best = INFINITY;
-      for (int c = 0; c < 3; ++c) {
-        const double d2 = (q.v[c][0] - corner[0]) * (q.v[c][0] - corner[0]) + (q.v[c][1] - corner[1]) * (q.v[c][1] - corner[1]);
-        if (d2 < best) best = d2, r = c;
-      }
-    }
-    const Point2 v0 = q.v[r], v1 = q.v[(r + 1) % 3], v2 = q.v[(r + 2) % 3];
+    const Point2 v0 = q.v[0], v1 = q.v[1], v2 = q.v[2];
     const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
     const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
     const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
@@ -787,8 +946,10 @@ EdgeSegment edge_segment(const PlateDesc& d, PlateEdge edge, int e) {
 /// by membership (its end off the zero), 3-point Gauss on each (exact to
 /// degree 5: products of two of the cut cell's functions along it), the
 /// material's part only; length is the point's weight in m² (× thickness).
+/// `graded` with branch functions: 7-point Gauss on segments graded away from
+/// the tip's foot on the side (the edge loads: their ∫ t N_a F_i).
 template <class F>
-void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegment& g, double h, F&& f) {
+void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegment& g, double h, bool graded, F&& f) {
   const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
   const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
   double breaks[3] = {0.0, 1.0, 1.0};
@@ -809,6 +970,22 @@ void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegme
     }
     const int material = material_of(m, v, side);
     if (material < 0) continue;
+    if (graded && v.tip_functions) {
+      // Branch functions along the side: smooth but not polynomial, singular
+      // at the tip; 7-point Gauss on segments graded away from its foot.
+      const Point2 a = {kXi[g.from], kEta[g.from]}, b = {kXi[g.to], kEta[g.to]};
+      double tf = 0.0, dt = 0.0;
+      foot_on_line(a, b, polar_apex(m, v), m.cell_size[0], m.cell_size[1], tf, dt);
+      graded_segments((tf - s0) / (s1 - s0), dt / (s1 - s0), 0.5, [&](double t0, double t1) {
+        for (int qp = 0; qp < 7; ++qp) {
+          const double sp = s0 + (t0 + kGl7x[qp] * (t1 - t0)) * (s1 - s0);
+          const double xi = kXi[g.from] + sp * (kXi[g.to] - kXi[g.from]);
+          const double eta = kEta[g.from] + sp * (kEta[g.to] - kEta[g.from]);
+          f(xi, eta, side, material, kGl7w[qp] * (t1 - t0) * (s1 - s0) * h * m.desc.thickness);
+        }
+      });
+      continue;
+    }
     for (int qp = 0; qp < 3; ++qp) {
       const double sp = s0 + g3[qp] * (s1 - s0);
       const double xi = kXi[g.from] + sp * (kXi[g.to] - kXi[g.from]);
@@ -1790,7 +1967,9 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         double fn[kMaxEdgePoints][kMaxCellFunctions];
         double rho_c[kMaxEdgePoints][2];
         int points = 0;
-        for_each_edge_point(model, view, g, h, [&](double xi, double eta, int side, int material, double length) {
+        // The dashpots (an approximate boundary) keep the 3-point rule, branch
+        // functions included: at most 6 points.
+        for_each_edge_point(model, view, g, h, false, [&](double xi, double eta, int side, int material, double length) {
           BasisAt basis;
           evaluate(model, view, xi, eta, g.tri, side, basis);
           const std::array<double, 9>& dd = model.material_elasticity[static_cast<std::size_t>(material)];
@@ -1912,7 +2091,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         for (int e2 = 0; e2 < count; ++e2) {
           const EdgeSegment g = edge_segment(d, ld.edge, e2);
           make_view(model, g.ci, g.cj, view);
-          for_each_edge_point(model, view, g, h, [&](double xi, double eta, int side, int, double length) {
+          for_each_edge_point(model, view, g, h, true, [&](double xi, double eta, int side, int, double length) {
             const double force[2] = {length * ld.value[0], length * ld.value[1]};
             add_basis(view, xi, eta, g.tri, side, force);
           });
@@ -2026,8 +2205,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                                       "crack faces %s (its stiffness is singular)",
                                       "open");
         solve();
-        for (std::size_t p = 0; p < points; ++p)
-          updated[p] = model.face_points[p].unilateral && detail::face_gap(model.face_points[p], u) < 0.0 ? 1 : 0;
+        // A gap within round-off of the displacements (1e-12 of the largest
+        // unknown) keeps its point's state: faces that neither separate nor
+        // interpenetrate (a load along the crack) would otherwise flip on the
+        // last bits of the solve and never settle.
+        double scale = 0.0;
+        for (const double x : state.u) scale = std::max(scale, std::fabs(x));
+        const double tol = 1e-12 * scale;
+        for (std::size_t p = 0; p < points; ++p) {
+          const double gap = detail::face_gap(model.face_points[p], u);
+          updated[p] = !model.face_points[p].unilateral ? 0 : gap < -tol ? 1 : gap > tol ? 0 : active[p];
+        }
         settled = updated == active;
         active.swap(updated);
       }
@@ -2623,7 +2811,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
           value += qp * (acc_local[0] * aux.grad_u[0][0] + acc_local[1] * aux.grad_u[1][0]);
           integral[mode] += w * area * value;
         }
-      });
+      }, kProbeRule);
     }
   if (e_star == 0.0) return;  // q = 0 everywhere: no node within the radius
   // I = 2 (K_I K_I^aux + K_II K_II^aux) / E*.
@@ -2659,6 +2847,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   const double(&dm)[3][3] = m.elasticity;
   double elastic = 0.0;
   CellView v;
+  std::size_t other = 0;  // the cell's index among the non-plain ones (other_cell_*)
   for (int j = 0; j < m.desc.cells[1]; ++j)
     for (int i = 0; i < m.desc.cells[0]; ++i) {
       make_view(m, i, j, v);
@@ -2670,6 +2859,39 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
           for (int r = 0; r < 3; ++r) q += eps[r] * (dm[r][0] * eps[0] + dm[r][1] * eps[1] + dm[r][2] * eps[2]);
           elastic += w * q;
         }
+        continue;
+      }
+      const std::size_t oc = other++;
+      if (v.tip_functions) {
+        // ½ u_eᵀ K_e u_e from the stored element stiffness (the polar rule's
+        // quadratic form, without its many points), after removing from the
+        // nodes' standard components the cell's rigid motion (their mean
+        // translation and rotation about the centre): K_e annihilates it, and
+        // without it nothing is lost to the cancellation of a drifting plate.
+        const int nf = 2 * v.count;
+        double ue[2 * kMaxCellFunctions];
+        for (int a = 0; a < nf; ++a) ue[a] = coefficient(v, s.u.data(), true, a / 2, a % 2);
+        double t[2] = {0.0, 0.0}, num = 0.0, den = 0.0;
+        for (int a = 0; a < 4; ++a) t[0] += 0.25 * ue[2 * a], t[1] += 0.25 * ue[2 * a + 1];
+        for (int a = 0; a < 4; ++a) {
+          const double dx = 0.5 * kXi[a] * m.cell_size[0], dy = 0.5 * kEta[a] * m.cell_size[1];
+          num += dx * (ue[2 * a + 1] - t[1]) - dy * (ue[2 * a] - t[0]);
+          den += dx * dx + dy * dy;
+        }
+        const double omega = num / den;
+        for (int a = 0; a < 4; ++a) {
+          const double dx = 0.5 * kXi[a] * m.cell_size[0], dy = 0.5 * kEta[a] * m.cell_size[1];
+          ue[2 * a] -= t[0] - omega * dy;
+          ue[2 * a + 1] -= t[1] + omega * dx;
+        }
+        const double* k = m.other_cell_matrix.data() + m.other_cell_matrix_start[oc];
+        double q = 0.0;
+        for (int a = 0; a < nf; ++a) {
+          double row = 0.0;
+          for (int b = 0; b < nf; ++b) row += k[a * nf + b] * ue[b];
+          q += ue[a] * row;
+        }
+        elastic += 0.5 * q;
         continue;
       }
       for_each_point(m, v, [&](double xi, double eta, double wp, int tri, int side, int material) {
