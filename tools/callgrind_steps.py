@@ -23,6 +23,7 @@ import tempfile
 FUNCTIONS = [
     ("the whole process", "PROGRAM TOTALS"),
     ("coupled_step", "xfdem::coupled_step("),
+    ("  particle substeps (dem_steps)", "xfdem::StepStatus xfdem::dem_steps<1>("),
     ("  particle substeps (dem_step)", "xfdem::StepStatus xfdem::dem_step<1>("),
     ("  bar_step", "xfdem::bar_step("),
     ("    Newmark loops (self)", "xfdem::xfem::newmark_step<"),

@@ -622,10 +622,15 @@ StepStatus step_with(const Run& run) {
   return status;
 }
 
-/// The small-system step for a feature set, particle and plane count (DemModel::small_step).
+/// The small-system step for a feature set, particle and plane count
+/// (DemModel::small_step): `steps` steps in one call, so that a window of
+/// substeps pays the calls and the function's entry once.
 template <int D, bool Gravity, bool Damped, bool NonTensile, int N, int P>
-StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile, N, P>{m, s, w});
+StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::int32_t steps) {
+  const SmallRun<D, Gravity, Damped, NonTensile, N, P> run{m, s, w};
+  StepStatus status = StepStatus::ok;
+  for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) status |= step_with<D>(run);
+  return status;
 }
 
 template <int D, int N, int P>
@@ -672,7 +677,7 @@ template <int D>
 StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   if (m.accelerations == nullptr) return StepStatus::not_built;
   // The small-system step has no stage clocks: a profiled step takes the general one (same bits).
-  if (m.small_step != nullptr && w.clock_ns == nullptr) return m.small_step(m, s, w);
+  if (m.small_step != nullptr && w.clock_ns == nullptr) return m.small_step(m, s, w, 1);
   if constexpr (D > 1)
     if (m.features.rotation) return dem_detail::granular_step<D>(m, s, w);
   return step_with<D>(GeneralRun<D>{m, s, w, m.accelerations});
@@ -685,6 +690,15 @@ StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   const StepStatus status = dem_step_untimed<D>(m, s, w);
   w.profile.step_ns += w.clock_ns() - start;
   ++w.profile.steps;
+  return status;
+}
+
+template <int D>
+StepStatus dem_steps(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::int32_t steps) {
+  if (m.accelerations != nullptr && m.small_step != nullptr && w.clock_ns == nullptr)
+    return m.small_step(m, s, w, steps);
+  StepStatus status = StepStatus::ok;
+  for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) status |= dem_step<D>(m, s, w);
   return status;
 }
 
@@ -767,5 +781,8 @@ template void dem_drive_plane<3>(const DemModel<3>&, DemState<3>&, std::int32_t,
 template StepStatus dem_step<1>(const DemModel<1>&, DemState<1>&, DemWorkspace<1>&);
 template StepStatus dem_step<2>(const DemModel<2>&, DemState<2>&, DemWorkspace<2>&);
 template StepStatus dem_step<3>(const DemModel<3>&, DemState<3>&, DemWorkspace<3>&);
+template StepStatus dem_steps<1>(const DemModel<1>&, DemState<1>&, DemWorkspace<1>&, std::int32_t);
+template StepStatus dem_steps<2>(const DemModel<2>&, DemState<2>&, DemWorkspace<2>&, std::int32_t);
+template StepStatus dem_steps<3>(const DemModel<3>&, DemState<3>&, DemWorkspace<3>&, std::int32_t);
 
 }  // namespace xfdem
