@@ -32,7 +32,7 @@ FUNCTIONS = [
     ("    LDLt solve", "xfdem::xfem::BandLdlt::solve("),
     ("  bar_adjust_step_input", "xfdem::bar_adjust_step_input("),
     ("  bar_resolve_acceleration", "xfdem::bar_resolve_acceleration("),
-    ("  copies of the particles' state", "xfdem::dem_copy_state<1>("),
+    ("  copies of the particles' state", "void xfdem::dem_copy_state<1>("),  # not the walk it calls
     ("CSV numbers (to_chars)", "std::to_chars("),
 ]
 SELF = {"    Newmark loops (self)"}

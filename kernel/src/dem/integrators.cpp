@@ -114,6 +114,66 @@ struct GeneralRun {
       s.hist_a[slot][d].swap(w.a0[d]);
     }
   }
+  /// The history ring: the state's own arrays.
+  double* hist_v(int slot, int d) const { return s.hist_v[slot][d].data(); }
+  double* hist_a(int slot, int d) const { return s.hist_a[slot][d].data(); }
+  double* hist_force(int slot) const { return s.hist_plane_force[slot].data(); }
+  /// Keeps the planes' forces of the last evaluation in slot `slot`
+  /// (w.plane_force is rewritten by every evaluation: swapped, not copied).
+  void keep_force(int slot) const { s.hist_plane_force[slot].swap(w.plane_force); }
+};
+
+/// The history ring of a small-system step with its particle count N and
+/// plane count P compiled in: one block on the step's stack, slot by slot the
+/// velocities and the accelerations (axis by axis) and the planes' forces, at
+/// offsets known at compile time. load() copies the state's slots in when the
+/// step's call starts and store() copies them back when it ends, so that the
+/// substeps of a window address one base instead of a std::vector per slot and
+/// axis, reading and writing the same values. With N or P = 0 (counts read at
+/// run time) it is the state's own arrays.
+template <int D, int N, int P>
+struct HistoryRing {
+  static constexpr bool kPacked = N > 0 && P > 0;
+  static constexpr int kSlot = 2 * D * N + P;
+  DemState<D>& s;
+  double block[kPacked ? 4 * kSlot : 1];  // filled by load()
+
+  explicit HistoryRing(DemState<D>& state) : s(state) {}
+
+  double* v(int slot, int d) {
+    if constexpr (kPacked) return block + slot * kSlot + d * N;
+    return s.hist_v[slot][d].data();
+  }
+  double* a(int slot, int d) {
+    if constexpr (kPacked) return block + slot * kSlot + (D + d) * N;
+    return s.hist_a[slot][d].data();
+  }
+  double* force(int slot) {
+    if constexpr (kPacked) return block + slot * kSlot + 2 * D * N;
+    return s.hist_plane_force[slot].data();
+  }
+  void load() {
+    if constexpr (kPacked)
+      for (int slot = 0; slot < 4; ++slot) {
+        for (int d = 0; d < D; ++d)
+          for (int i = 0; i < N; ++i) {
+            v(slot, d)[i] = s.hist_v[slot][d][i];
+            a(slot, d)[i] = s.hist_a[slot][d][i];
+          }
+        for (int p = 0; p < P; ++p) force(slot)[p] = s.hist_plane_force[slot][p];
+      }
+  }
+  void store() {
+    if constexpr (kPacked)
+      for (int slot = 0; slot < 4; ++slot) {
+        for (int d = 0; d < D; ++d)
+          for (int i = 0; i < N; ++i) {
+            s.hist_v[slot][d][i] = v(slot, d)[i];
+            s.hist_a[slot][d][i] = a(slot, d)[i];
+          }
+        for (int p = 0; p < P; ++p) s.hist_plane_force[slot][p] = force(slot)[p];
+      }
+  }
 };
 
 /// SmallRun: few particles in one part with a fixed pair list (broad phase
@@ -131,6 +191,7 @@ struct SmallRun {
   const DemModel<D>& m;
   DemState<D>& s;
   DemWorkspace<D>& w;
+  HistoryRing<D, N, P>& ring;  ///< the history slots the step reads and writes
   static constexpr int kCount = N;
   static constexpr int kPlanes = P;
 
@@ -145,9 +206,31 @@ struct SmallRun {
   }
   Columns<D> x1() const { return view<D>(s.x); }
   Columns<D> v1() const { return view<D>(s.v); }
-  Columns<D> a1() const { return view<D>(s.hist_a[(s.history_head + 1) & 3]); }
+  Columns<D> a1() const {
+    Columns<D> a;
+    for (int d = 0; d < D; ++d) a[d] = ring.a((s.history_head + 1) & 3, d);
+    return a;
+  }
   void adopt(std::int32_t) const {}
+  double* hist_v(int slot, int d) const { return ring.v(slot, d); }
+  double* hist_a(int slot, int d) const { return ring.a(slot, d); }
+  double* hist_force(int slot) const { return ring.force(slot); }
+  void keep_force(int slot) const {
+    if constexpr (HistoryRing<D, N, P>::kPacked) {
+      for (int p = 0; p < P; ++p) ring.force(slot)[p] = w.plane_force[static_cast<std::size_t>(p)];
+    } else {
+      s.hist_plane_force[slot].swap(w.plane_force);
+    }
+  }
 };
+
+/// The accelerations kept in history slot `slot` of the run's ring.
+template <int D, class Run>
+Columns<D> hist_a_of(const Run& run, int slot) {
+  Columns<D> a;
+  for (int d = 0; d < D; ++d) a[d] = run.hist_a(slot, d);
+  return a;
+}
 
 /// One classical RK4 step of size h from (x0, v0) whose acceleration a0 is
 /// known, into (x1, v1). Stage work in w.xs/vs/as and w.sum_x/sum_v.
@@ -233,11 +316,11 @@ void commit(const Run& run, const std::vector<double>& impulse) {
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
       const double* v = s.v[d].data();
-      double* kept = s.hist_v[slot][d].data();
+      double* kept = run.hist_v(slot, d);
       for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
     }
   });
-  s.hist_plane_force[slot].swap(run.w.plane_force);  // w.plane_force is rewritten by every evaluation
+  run.keep_force(slot);
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(impulse); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
 }
@@ -248,19 +331,19 @@ StepStatus ensure_current_acceleration(const Run& run) {
   DemState<D>& s = run.s;
   if (s.history_count > 0) return StepStatus::ok;
   const auto& cs = s;
-  const StepStatus status = run.eval(s.time, view<D>(cs.x), view<D>(cs.v), view<D>(s.hist_a[s.history_head]));
+  const StepStatus status = run.eval(s.time, view<D>(cs.x), view<D>(cs.v), hist_a_of<D>(run, s.history_head));
   if (stop_now(status)) return status;
   // Element by element (the sizes match): an assignment of a few values costs
   // more in its checks and memmove call than the copy.
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
       const double* v = s.v[d].data();
-      double* kept = s.hist_v[s.history_head][d].data();
+      double* kept = run.hist_v(s.history_head, d);
       for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
     }
   });
   const std::vector<double>& force = run.w.plane_force;
-  double* kept_force = s.hist_plane_force[s.history_head].data();
+  double* kept_force = run.hist_force(s.history_head);
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(force); ++p) kept_force[p] = force[p];
   s.history_count = 1;
   return status;
@@ -272,8 +355,9 @@ StepStatus step_rk4(const Run& run) {
   DemState<D>& s = run.s;
   const auto& cs = s;
   const Columns<D> x1 = run.x1(), v1 = run.v1();
-  StepStatus status = rk4_step<D>(run, s.time, view<D>(cs.x), view<D>(cs.v), view<D>(cs.hist_a[s.history_head]),
-                                  s.hist_plane_force[s.history_head].data(), m.dt, x1, v1);
+  StepStatus status = rk4_step<D>(run, s.time, view<D>(cs.x), view<D>(cs.v),
+                                  constant<D>(hist_a_of<D>(run, s.history_head)), run.hist_force(s.history_head),
+                                  m.dt, x1, v1);
   if (stop_now(status)) return status;
   // f(y_{n+1}) is S1 of the next step (and the multistep history).
   status |= run.eval(s.time + m.dt, constant<D>(x1), constant<D>(v1), run.a1());
@@ -289,7 +373,7 @@ StepStatus step_verlet(const Run& run) {
   DemState<D>& s = run.s;
   DemWorkspace<D>& w = run.w;
   const double h = m.dt, half = 0.5 * m.dt;
-  const auto& a = s.hist_a[s.history_head];
+  const Columns<D> a = hist_a_of<D>(run, s.history_head);
   const Columns<D> x1 = run.x1(), v1 = run.v1(), a1 = run.a1();
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
@@ -307,7 +391,7 @@ StepStatus step_verlet(const Run& run) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) v1[d][i] = w.vs[d][i] + half * a1[d][i];
   });
-  weigh<Run::kPlanes>(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
+  weigh<Run::kPlanes>(w.plane_weighted, half, {{1.0, run.hist_force(s.history_head)}, {1.0, w.plane_force.data()}});
   commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
@@ -319,7 +403,7 @@ StepStatus step_symplectic_euler(const Run& run) {
   DemState<D>& s = run.s;
   DemWorkspace<D>& w = run.w;
   const double h = m.dt;
-  const auto& a = s.hist_a[s.history_head];
+  const Columns<D> a = hist_a_of<D>(run, s.history_head);
   const Columns<D> x1 = run.x1(), v1 = run.v1();
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
@@ -331,7 +415,7 @@ StepStatus step_symplectic_euler(const Run& run) {
   });
   const StepStatus status = run.eval(s.time + h, constant<D>(x1), constant<D>(v1), run.a1());
   if (stop_now(status)) return status;
-  weigh<Run::kPlanes>(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
+  weigh<Run::kPlanes>(w.plane_weighted, h, {{1.0, run.hist_force(s.history_head)}});
   commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
@@ -354,10 +438,8 @@ StepStatus abm4_pece(const Run& run) {
   run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
-      const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
-                   *v3 = s.hist_v[f3][d].data();
-      const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data(),
-                   *a3 = s.hist_a[f3][d].data();
+      const double *v0 = run.hist_v(f0, d), *v1 = run.hist_v(f1, d), *v2 = run.hist_v(f2, d), *v3 = run.hist_v(f3, d);
+      const double *a0 = run.hist_a(f0, d), *a1 = run.hist_a(f1, d), *a2 = run.hist_a(f2, d), *a3 = run.hist_a(f3, d);
       const double *x = s.x[d].data(), *v = s.v[d].data();
       double *xs = w.xs[d].data(), *vs = w.vs[d].data();
       for (std::int32_t i = begin; i < end; ++i) {
@@ -374,13 +456,12 @@ StepStatus abm4_pece(const Run& run) {
   if (!(probe[0] + probe[1] == 0.0)) status |= StepStatus::non_finite;
   // The planes' share of the corrector's velocity update.
   weigh<Run::kPlanes>(w.plane_weighted, c,
-        {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
-         {1.0, s.hist_plane_force[f2].data()}});
+        {{9.0, w.plane_force.data()}, {19.0, run.hist_force(f0)}, {-5.0, run.hist_force(f1)}, {1.0, run.hist_force(f2)}});
   const Columns<D> x1 = run.x1(), v1 = run.v1();
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
-      const double *v0 = s.hist_v[f0][d].data(), *v1h = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
-      const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
+      const double *v0 = run.hist_v(f0, d), *v1h = run.hist_v(f1, d), *v2 = run.hist_v(f2, d);
+      const double *a0 = run.hist_a(f0, d), *a1 = run.hist_a(f1, d), *a2 = run.hist_a(f2, d);
       const double *x = s.x[d].data(), *v = s.v[d].data();
       const double *vs = w.vs[d].data(), *as = w.as[d].data();
       double *xn = x1[d], *vn = v1[d];
@@ -543,12 +624,12 @@ bool all_finite(const Run& run, double start_time, bool read_whole_history) {
   run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
-      const double *x = s.x[d].data(), *v = s.v[d].data(), *a = s.hist_a[head][d].data();
+      const double *x = s.x[d].data(), *v = s.v[d].data(), *a = run.hist_a(head, d);
       if (read_whole_history) {
         sum += zero_probe<3>({x, v, a}, begin, end);
       } else {
-        sum += zero_probe<8>({x, v, a, s.hist_v[h1][d].data(), s.hist_v[h2][d].data(), s.hist_v[h3][d].data(),
-                              s.hist_a[h1][d].data(), s.hist_a[h2][d].data()},
+        sum += zero_probe<8>({x, v, a, run.hist_v(h1, d), run.hist_v(h2, d), run.hist_v(h3, d), run.hist_a(h1, d),
+                              run.hist_a(h2, d)},
                              begin, end);
       }
       if (check_x_ref) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
@@ -560,7 +641,7 @@ bool all_finite(const Run& run, double start_time, bool read_whole_history) {
   if (!m.features.damped) planes += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(s.plane_offset); ++p) {
     planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
-    for (const auto& force : s.hist_plane_force) planes += 0.0 * force[p];
+    for (int slot = 0; slot < 4; ++slot) planes += 0.0 * run.hist_force(slot)[p];
   }
   return probe[0] + probe[1] + planes == 0.0;
 }
@@ -627,9 +708,12 @@ StepStatus step_with(const Run& run) {
 /// substeps pays the calls and the function's entry once.
 template <int D, bool Gravity, bool Damped, bool NonTensile, int N, int P>
 StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::int32_t steps) {
-  const SmallRun<D, Gravity, Damped, NonTensile, N, P> run{m, s, w};
+  HistoryRing<D, N, P> ring(s);
+  ring.load();
+  const SmallRun<D, Gravity, Damped, NonTensile, N, P> run{m, s, w, ring};
   StepStatus status = StepStatus::ok;
   for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) status |= step_with<D>(run);
+  ring.store();
   return status;
 }
 
