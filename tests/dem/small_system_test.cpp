@@ -213,7 +213,8 @@ void sweep(int scenes) {
 /// dem_steps: a window of steps in one call of the small-system step (its
 /// history ring loaded once and stored once) against the general step taken
 /// one by one, with the inputs changed between windows as a coupled host
-/// does: the same bits after every window and the same statuses together.
+/// does, and now and then a NaN put into the history or into a value no step
+/// writes: the same bits after every window and the same statuses together.
 template <int D>
 void windows(int scenes) {
   int nan_windows = 0;
@@ -238,10 +239,16 @@ void windows(int scenes) {
         dem_drive_plane(general.model, general.state, p, offset, speed);
       }
       if (j == nan_at) {
+        // The oldest history slot, or a value no step writes (checked once
+        // per call of the small step): x_ref, a plane's speed.
         const int d = static_cast<int>(rng() % D);
         const auto i = static_cast<std::size_t>(rng() % desc.particles.size());
-        small.state.hist_v[(small.state.history_head + 1) & 3][d][i] = NAN;  // the oldest slot
-        general.state.hist_v[(general.state.history_head + 1) & 3][d][i] = NAN;
+        const int which = desc.planes.empty() ? static_cast<int>(rng() % 2) : static_cast<int>(rng() % 3);
+        for (DemState<D>* s : {&small.state, &general.state}) {
+          if (which == 0) s->hist_v[(s->history_head + 1) & 3][d][i] = NAN;
+          if (which == 1) s->x_ref[d][i] = NAN;
+          if (which == 2) s->plane_speed[0] = NAN;
+        }
         ++nan_windows;
       }
       const StepStatus a = dem_steps(small.model, small.state, small.workspace, window);

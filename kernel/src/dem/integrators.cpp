@@ -94,6 +94,7 @@ struct GeneralRun {
   AccelerationKernel<D> kernel;
   static constexpr int kCount = 0;   ///< particle_count: the model's
   static constexpr int kPlanes = 0;  ///< plane_count: the arrays' own
+  static constexpr bool kInputsOncePerCall = false;  ///< all_finite checks inputs_probe's values every step
 
   template <class F>
   void over(F&& f) const {
@@ -194,6 +195,9 @@ struct SmallRun {
   HistoryRing<D, N, P>& ring;  ///< the history slots the step reads and writes
   static constexpr int kCount = N;
   static constexpr int kPlanes = P;
+  /// inputs_probe's values, which no step writes, are checked once per call
+  /// of small_step: the same statuses together.
+  static constexpr bool kInputsOncePerCall = true;
 
   template <class F>
   void over(F&& f) const {
@@ -600,6 +604,27 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   return status;
 }
 
+/// all_finite's part over the values no step writes (the host sets them
+/// between steps): x_ref of particles [begin, end) unless a grid is built,
+/// and with the part that starts at 0 the listed pairs' η in an undamped
+/// model and the planes' offsets, speeds and drive time. Σ 0·value: 0 when
+/// they are finite, NaN otherwise.
+template <int D, class Run>
+double inputs_probe(const Run& run, std::int32_t begin, std::int32_t end) {
+  const DemModel<D>& m = run.m;
+  const DemState<D>& s = run.s;
+  double sum = 0;
+  if (m.features.broad_phase != BroadPhase::grid)
+    for (int d = 0; d < D; ++d) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
+  if (begin == 0) {
+    sum += 0.0 * s.plane_time;
+    if (!m.features.damped) sum += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
+    for (std::size_t p = 0; p < plane_count<Run::kPlanes>(s.plane_offset); ++p)
+      sum += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p];
+  }
+  return sum;
+}
+
 /// The check after a step: whether every value of the state a NaN or an
 /// infinity can be in is finite. It covers:
 ///  - x, v and the acceleration just stored: a NaN the step read from the
@@ -612,14 +637,14 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
 ///    damped one reads the cached K and η of every touching pair);
 ///  - the planes' values and the time the step started from, O(planes): a NaN
 ///    there makes a contact test false instead of propagating.
+/// `inputs`: with the values no step writes (inputs_probe); the small-system
+/// step checks those once per call instead (small_step).
 template <int D, class Run>
-bool all_finite(const Run& run, double start_time, bool read_whole_history) {
-  const DemModel<D>& m = run.m;
+bool all_finite(const Run& run, double start_time, bool read_whole_history, bool inputs) {
   const DemState<D>& s = run.s;
   // The other slots, oldest first: h3 is the one the step started from (its
   // acceleration was read, its velocity copy was not).
   const int head = s.history_head, h1 = (head + 1) & 3, h2 = (head + 2) & 3, h3 = (head + 3) & 3;
-  const bool check_x_ref = m.features.broad_phase != BroadPhase::grid;
   double probe[2] = {0, 0};
   run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
@@ -632,15 +657,14 @@ bool all_finite(const Run& run, double start_time, bool read_whole_history) {
                               run.hist_a(h2, d)},
                              begin, end);
       }
-      if (check_x_ref) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
     }
+    if (inputs) sum += inputs_probe<D>(run, begin, end);
     probe[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
   });
-  double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference +
-                  0.0 * s.energy.work + 0.0 * s.energy.peak;
-  if (!m.features.damped) planes += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
+  double planes = 0.0 * start_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference + 0.0 * s.energy.work +
+                  0.0 * s.energy.peak;
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(s.plane_offset); ++p) {
-    planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
+    planes += 0.0 * s.plane_impulse[p];
     for (int slot = 0; slot < 4; ++slot) planes += 0.0 * run.hist_force(slot)[p];
   }
   return probe[0] + probe[1] + planes == 0.0;
@@ -694,7 +718,8 @@ StepStatus step_with(const Run& run) {
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
-  if (!all_finite<D>(run, start_time, read_whole_history)) status |= StepStatus::non_finite;
+  if (!all_finite<D>(run, start_time, read_whole_history, !Run::kInputsOncePerCall))
+    status |= StepStatus::non_finite;
   const double moment_end = moment_booked ? dem_detail::external_force_moment(m, s) : 0.0;
   s.energy.work += (moment_end - moment_start) + (dem_detail::plane_work_sum<Run::kPlanes>(s) - planes_start);
   if (energy_check_due(m.energy_check, s.step))
@@ -712,7 +737,15 @@ StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, 
   ring.load();
   const SmallRun<D, Gravity, Damped, NonTensile, N, P> run{m, s, w, ring};
   StepStatus status = StepStatus::ok;
-  for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) status |= step_with<D>(run);
+  bool checked = false;  // whether a step reached its finiteness check (a step not taken returns before it)
+  for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) {
+    const StepStatus step = step_with<D>(run);
+    status |= step;
+    checked |= !stop_now(step);
+  }
+  // The values no step writes: as each step's check would have found them.
+  if (checked && !(inputs_probe<D>(run, 0, dem_detail::particle_count<N>(m)) == 0.0))
+    status |= StepStatus::non_finite;
   ring.store();
   return status;
 }
