@@ -23,6 +23,7 @@ import tempfile
 FUNCTIONS = [
     ("the whole process", "PROGRAM TOTALS"),
     ("coupled_step", "xfdem::coupled_step("),
+    ("  particle substeps (dem_steps)", "xfdem::StepStatus xfdem::dem_steps<1>("),
     ("  particle substeps (dem_step)", "xfdem::StepStatus xfdem::dem_step<1>("),
     ("  bar_step", "xfdem::bar_step("),
     ("    Newmark loops (self)", "xfdem::xfem::newmark_step<"),
@@ -31,7 +32,7 @@ FUNCTIONS = [
     ("    LDLt solve", "xfdem::xfem::BandLdlt::solve("),
     ("  bar_adjust_step_input", "xfdem::bar_adjust_step_input("),
     ("  bar_resolve_acceleration", "xfdem::bar_resolve_acceleration("),
-    ("  copies of the particles' state", "xfdem::dem_copy_state<1>("),
+    ("  copies of the particles' state", "void xfdem::dem_copy_state<1>("),  # not the walk it calls
     ("CSV numbers (to_chars)", "std::to_chars("),
 ]
 SELF = {"    Newmark loops (self)"}

@@ -210,6 +210,65 @@ void sweep(int scenes) {
   EXPECT_GT(seen.energy_growth, 0);
 }
 
+/// dem_steps: a window of steps in one call of the small-system step (its
+/// history ring loaded once and stored once) against the general step taken
+/// one by one, with the inputs changed between windows as a coupled host
+/// does, and now and then a NaN put into the history or into a value no step
+/// writes: the same bits after every window and the same statuses together.
+template <int D>
+void windows(int scenes) {
+  int nan_windows = 0;
+  for (int k = 0; k < scenes; ++k) {
+    const std::uint64_t seed = 0x3A1D0000u + 1000u * D + static_cast<std::uint64_t>(k);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    DemDesc<D> desc = random_scene<D>(rng);
+    DemWorld<D> small, general;
+    ASSERT_TRUE(small.build(desc).ok()) << "seed " << seed;
+    desc.small_system_path = false;
+    ASSERT_TRUE(general.build(desc).ok()) << "seed " << seed;
+    ASSERT_NE(small.model.small_step, nullptr) << "seed " << seed;
+    const int window = 1 + static_cast<int>(rng() % 12);
+    const int nan_at = rng() % 6 == 0 ? static_cast<int>(rng() % 30) : -1;
+    platform::AllocationCounter counter;
+    for (int j = 0; j < 30; ++j) {
+      if (!desc.planes.empty()) {
+        const auto p = static_cast<std::int32_t>(rng() % desc.planes.size());
+        const double offset = 0.05 * (u(rng) - 0.5), speed = u(rng) - 0.5;
+        dem_drive_plane(small.model, small.state, p, offset, speed);
+        dem_drive_plane(general.model, general.state, p, offset, speed);
+      }
+      if (j == nan_at) {
+        // The oldest history slot, or a value no step writes (checked once
+        // per call of the small step): x_ref, a plane's speed.
+        const int d = static_cast<int>(rng() % D);
+        const auto i = static_cast<std::size_t>(rng() % desc.particles.size());
+        const int which = desc.planes.empty() ? static_cast<int>(rng() % 2) : static_cast<int>(rng() % 3);
+        for (DemState<D>* s : {&small.state, &general.state}) {
+          if (which == 0) s->hist_v[(s->history_head + 1) & 3][d][i] = NAN;
+          if (which == 1) s->x_ref[d][i] = NAN;
+          if (which == 2) s->plane_speed[0] = NAN;
+        }
+        ++nan_windows;
+      }
+      const StepStatus a = dem_steps(small.model, small.state, small.workspace, window);
+      StepStatus b = StepStatus::ok;
+      for (int s = 0; s < window; ++s) b |= general.step();
+      ASSERT_EQ(static_cast<unsigned>(a), static_cast<unsigned>(b)) << "seed " << seed << " window " << j;
+      ASSERT_EQ(state_hash(small.state), state_hash(general.state)) << "seed " << seed << " window " << j;
+      ASSERT_EQ(small.workspace.contact_signature, general.workspace.contact_signature) << "seed " << seed;
+    }
+    EXPECT_EQ(counter.allocations(), 0u) << "seed " << seed;
+  }
+  EXPECT_GT(nan_windows, 0);
+}
+
+TEST(SmallSystem, WindowInOneCallSameBitsAsStepByStep) {
+  windows<1>(100);
+  windows<2>(60);
+  windows<3>(60);
+}
+
 TEST(SmallSystem, SameBitsAsTheGeneralStep1D) { sweep<1>(300); }
 TEST(SmallSystem, SameBitsAsTheGeneralStep2D) { sweep<2>(300); }
 TEST(SmallSystem, SameBitsAsTheGeneralStep3D) { sweep<3>(300); }

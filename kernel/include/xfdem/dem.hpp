@@ -306,9 +306,9 @@ struct ExternalStage {
 template <int D>
 using ExternalRotatingContacts = std::uint64_t (*)(void* context, const ExternalStage<D>& stage, double* totals);
 
-/// A whole step (DemModel::small_step).
+/// `steps` whole steps, up to the first not taken (DemModel::small_step).
 template <int D>
-using StepFunction = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&);
+using StepFunction = StepStatus (*)(const DemModel<D>&, DemState<D>&, DemWorkspace<D>&, std::int32_t steps);
 
 template <int D>
 struct DemModel {
@@ -537,6 +537,13 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& model, DemState<D>& s
 /// energy_growth from the check that finds it broken on.
 template <int D>
 StepStatus dem_step(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace);
+
+/// `steps` calls of dem_step(), up to and including the first not taken
+/// (kStepNotTaken); returns their flags together. The same steps with the
+/// same bits; the small-system step runs them in one call (the coupled
+/// window's substeps).
+template <int D>
+StepStatus dem_steps(const DemModel<D>& model, DemState<D>& state, DemWorkspace<D>& workspace, std::int32_t steps);
 
 /// Moves plane p from now on: its point is at `offset` along its normal from
 /// where it was built at the current time, moving at `speed` (m/s along the

@@ -191,10 +191,8 @@ StepStatus window_pass(const CoupledModel& m, CoupledState& s, CoupledWorkspace&
   const std::int32_t history_at_start = s.dem.history_count;
   const std::int64_t events_before = s.dem.events_located;
   w.dem.contact_signature = 0;
-  for (int k = 0; k < m.substeps; ++k) {
-    status |= dem_step(m.dem, s.dem, w.dem);
-    if (has(status, kStepNotTaken)) return not_taken(status);
-  }
+  status |= dem_steps(m.dem, s.dem, w.dem, m.substeps);
+  if (has(status, kStepNotTaken)) return not_taken(status);
   // What decides the window's map from the force to the particles' end: the
   // contacts that carried a force at each evaluation and where the multistep
   // history started. A located event makes the map nonlinear.

@@ -94,6 +94,7 @@ struct GeneralRun {
   AccelerationKernel<D> kernel;
   static constexpr int kCount = 0;   ///< particle_count: the model's
   static constexpr int kPlanes = 0;  ///< plane_count: the arrays' own
+  static constexpr bool kInputsOncePerCall = false;  ///< all_finite checks inputs_probe's values every step
 
   template <class F>
   void over(F&& f) const {
@@ -114,6 +115,66 @@ struct GeneralRun {
       s.hist_a[slot][d].swap(w.a0[d]);
     }
   }
+  /// The history ring: the state's own arrays.
+  double* hist_v(int slot, int d) const { return s.hist_v[slot][d].data(); }
+  double* hist_a(int slot, int d) const { return s.hist_a[slot][d].data(); }
+  double* hist_force(int slot) const { return s.hist_plane_force[slot].data(); }
+  /// Keeps the planes' forces of the last evaluation in slot `slot`
+  /// (w.plane_force is rewritten by every evaluation: swapped, not copied).
+  void keep_force(int slot) const { s.hist_plane_force[slot].swap(w.plane_force); }
+};
+
+/// The history ring of a small-system step with its particle count N and
+/// plane count P compiled in: one block on the step's stack, slot by slot the
+/// velocities and the accelerations (axis by axis) and the planes' forces, at
+/// offsets known at compile time. load() copies the state's slots in when the
+/// step's call starts and store() copies them back when it ends, so that the
+/// substeps of a window address one base instead of a std::vector per slot and
+/// axis, reading and writing the same values. With N or P = 0 (counts read at
+/// run time) it is the state's own arrays.
+template <int D, int N, int P>
+struct HistoryRing {
+  static constexpr bool kPacked = N > 0 && P > 0;
+  static constexpr int kSlot = 2 * D * N + P;
+  DemState<D>& s;
+  double block[kPacked ? 4 * kSlot : 1];  // filled by load()
+
+  explicit HistoryRing(DemState<D>& state) : s(state) {}
+
+  double* v(int slot, int d) {
+    if constexpr (kPacked) return block + slot * kSlot + d * N;
+    return s.hist_v[slot][d].data();
+  }
+  double* a(int slot, int d) {
+    if constexpr (kPacked) return block + slot * kSlot + (D + d) * N;
+    return s.hist_a[slot][d].data();
+  }
+  double* force(int slot) {
+    if constexpr (kPacked) return block + slot * kSlot + 2 * D * N;
+    return s.hist_plane_force[slot].data();
+  }
+  void load() {
+    if constexpr (kPacked)
+      for (int slot = 0; slot < 4; ++slot) {
+        for (int d = 0; d < D; ++d)
+          for (int i = 0; i < N; ++i) {
+            v(slot, d)[i] = s.hist_v[slot][d][i];
+            a(slot, d)[i] = s.hist_a[slot][d][i];
+          }
+        for (int p = 0; p < P; ++p) force(slot)[p] = s.hist_plane_force[slot][p];
+      }
+  }
+  void store() {
+    if constexpr (kPacked)
+      for (int slot = 0; slot < 4; ++slot) {
+        for (int d = 0; d < D; ++d)
+          for (int i = 0; i < N; ++i) {
+            s.hist_v[slot][d][i] = v(slot, d)[i];
+            s.hist_a[slot][d][i] = a(slot, d)[i];
+          }
+        for (int p = 0; p < P; ++p) s.hist_plane_force[slot][p] = force(slot)[p];
+      }
+  }
 };
 
 /// SmallRun: few particles in one part with a fixed pair list (broad phase
@@ -131,8 +192,12 @@ struct SmallRun {
   const DemModel<D>& m;
   DemState<D>& s;
   DemWorkspace<D>& w;
+  HistoryRing<D, N, P>& ring;  ///< the history slots the step reads and writes
   static constexpr int kCount = N;
   static constexpr int kPlanes = P;
+  /// inputs_probe's values, which no step writes, are checked once per call
+  /// of small_step: the same statuses together.
+  static constexpr bool kInputsOncePerCall = true;
 
   template <class F>
   void over(F&& f) const {
@@ -145,9 +210,31 @@ struct SmallRun {
   }
   Columns<D> x1() const { return view<D>(s.x); }
   Columns<D> v1() const { return view<D>(s.v); }
-  Columns<D> a1() const { return view<D>(s.hist_a[(s.history_head + 1) & 3]); }
+  Columns<D> a1() const {
+    Columns<D> a;
+    for (int d = 0; d < D; ++d) a[d] = ring.a((s.history_head + 1) & 3, d);
+    return a;
+  }
   void adopt(std::int32_t) const {}
+  double* hist_v(int slot, int d) const { return ring.v(slot, d); }
+  double* hist_a(int slot, int d) const { return ring.a(slot, d); }
+  double* hist_force(int slot) const { return ring.force(slot); }
+  void keep_force(int slot) const {
+    if constexpr (HistoryRing<D, N, P>::kPacked) {
+      for (int p = 0; p < P; ++p) ring.force(slot)[p] = w.plane_force[static_cast<std::size_t>(p)];
+    } else {
+      s.hist_plane_force[slot].swap(w.plane_force);
+    }
+  }
 };
+
+/// The accelerations kept in history slot `slot` of the run's ring.
+template <int D, class Run>
+Columns<D> hist_a_of(const Run& run, int slot) {
+  Columns<D> a;
+  for (int d = 0; d < D; ++d) a[d] = run.hist_a(slot, d);
+  return a;
+}
 
 /// One classical RK4 step of size h from (x0, v0) whose acceleration a0 is
 /// known, into (x1, v1). Stage work in w.xs/vs/as and w.sum_x/sum_v.
@@ -233,11 +320,11 @@ void commit(const Run& run, const std::vector<double>& impulse) {
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
       const double* v = s.v[d].data();
-      double* kept = s.hist_v[slot][d].data();
+      double* kept = run.hist_v(slot, d);
       for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
     }
   });
-  s.hist_plane_force[slot].swap(run.w.plane_force);  // w.plane_force is rewritten by every evaluation
+  run.keep_force(slot);
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(impulse); ++p) s.plane_impulse[p] += impulse[p];
   s.history_head = slot;
 }
@@ -248,19 +335,19 @@ StepStatus ensure_current_acceleration(const Run& run) {
   DemState<D>& s = run.s;
   if (s.history_count > 0) return StepStatus::ok;
   const auto& cs = s;
-  const StepStatus status = run.eval(s.time, view<D>(cs.x), view<D>(cs.v), view<D>(s.hist_a[s.history_head]));
+  const StepStatus status = run.eval(s.time, view<D>(cs.x), view<D>(cs.v), hist_a_of<D>(run, s.history_head));
   if (stop_now(status)) return status;
   // Element by element (the sizes match): an assignment of a few values costs
   // more in its checks and memmove call than the copy.
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
       const double* v = s.v[d].data();
-      double* kept = s.hist_v[s.history_head][d].data();
+      double* kept = run.hist_v(s.history_head, d);
       for (std::int32_t i = begin; i < end; ++i) kept[i] = v[i];
     }
   });
   const std::vector<double>& force = run.w.plane_force;
-  double* kept_force = s.hist_plane_force[s.history_head].data();
+  double* kept_force = run.hist_force(s.history_head);
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(force); ++p) kept_force[p] = force[p];
   s.history_count = 1;
   return status;
@@ -272,8 +359,9 @@ StepStatus step_rk4(const Run& run) {
   DemState<D>& s = run.s;
   const auto& cs = s;
   const Columns<D> x1 = run.x1(), v1 = run.v1();
-  StepStatus status = rk4_step<D>(run, s.time, view<D>(cs.x), view<D>(cs.v), view<D>(cs.hist_a[s.history_head]),
-                                  s.hist_plane_force[s.history_head].data(), m.dt, x1, v1);
+  StepStatus status = rk4_step<D>(run, s.time, view<D>(cs.x), view<D>(cs.v),
+                                  constant<D>(hist_a_of<D>(run, s.history_head)), run.hist_force(s.history_head),
+                                  m.dt, x1, v1);
   if (stop_now(status)) return status;
   // f(y_{n+1}) is S1 of the next step (and the multistep history).
   status |= run.eval(s.time + m.dt, constant<D>(x1), constant<D>(v1), run.a1());
@@ -289,7 +377,7 @@ StepStatus step_verlet(const Run& run) {
   DemState<D>& s = run.s;
   DemWorkspace<D>& w = run.w;
   const double h = m.dt, half = 0.5 * m.dt;
-  const auto& a = s.hist_a[s.history_head];
+  const Columns<D> a = hist_a_of<D>(run, s.history_head);
   const Columns<D> x1 = run.x1(), v1 = run.v1(), a1 = run.a1();
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
@@ -307,7 +395,7 @@ StepStatus step_verlet(const Run& run) {
     for (int d = 0; d < D; ++d)
       for (std::int32_t i = begin; i < end; ++i) v1[d][i] = w.vs[d][i] + half * a1[d][i];
   });
-  weigh<Run::kPlanes>(w.plane_weighted, half, {{1.0, s.hist_plane_force[s.history_head].data()}, {1.0, w.plane_force.data()}});
+  weigh<Run::kPlanes>(w.plane_weighted, half, {{1.0, run.hist_force(s.history_head)}, {1.0, w.plane_force.data()}});
   commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
@@ -319,7 +407,7 @@ StepStatus step_symplectic_euler(const Run& run) {
   DemState<D>& s = run.s;
   DemWorkspace<D>& w = run.w;
   const double h = m.dt;
-  const auto& a = s.hist_a[s.history_head];
+  const Columns<D> a = hist_a_of<D>(run, s.history_head);
   const Columns<D> x1 = run.x1(), v1 = run.v1();
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d)
@@ -331,7 +419,7 @@ StepStatus step_symplectic_euler(const Run& run) {
   });
   const StepStatus status = run.eval(s.time + h, constant<D>(x1), constant<D>(v1), run.a1());
   if (stop_now(status)) return status;
-  weigh<Run::kPlanes>(w.plane_weighted, h, {{1.0, s.hist_plane_force[s.history_head].data()}});
+  weigh<Run::kPlanes>(w.plane_weighted, h, {{1.0, run.hist_force(s.history_head)}});
   commit<D>(run, w.plane_weighted);
   s.history_count = std::min(s.history_count + 1, 4);
   return status;
@@ -354,10 +442,8 @@ StepStatus abm4_pece(const Run& run) {
   run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
-      const double *v0 = s.hist_v[f0][d].data(), *v1 = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data(),
-                   *v3 = s.hist_v[f3][d].data();
-      const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data(),
-                   *a3 = s.hist_a[f3][d].data();
+      const double *v0 = run.hist_v(f0, d), *v1 = run.hist_v(f1, d), *v2 = run.hist_v(f2, d), *v3 = run.hist_v(f3, d);
+      const double *a0 = run.hist_a(f0, d), *a1 = run.hist_a(f1, d), *a2 = run.hist_a(f2, d), *a3 = run.hist_a(f3, d);
       const double *x = s.x[d].data(), *v = s.v[d].data();
       double *xs = w.xs[d].data(), *vs = w.vs[d].data();
       for (std::int32_t i = begin; i < end; ++i) {
@@ -374,13 +460,12 @@ StepStatus abm4_pece(const Run& run) {
   if (!(probe[0] + probe[1] == 0.0)) status |= StepStatus::non_finite;
   // The planes' share of the corrector's velocity update.
   weigh<Run::kPlanes>(w.plane_weighted, c,
-        {{9.0, w.plane_force.data()}, {19.0, s.hist_plane_force[f0].data()}, {-5.0, s.hist_plane_force[f1].data()},
-         {1.0, s.hist_plane_force[f2].data()}});
+        {{9.0, w.plane_force.data()}, {19.0, run.hist_force(f0)}, {-5.0, run.hist_force(f1)}, {1.0, run.hist_force(f2)}});
   const Columns<D> x1 = run.x1(), v1 = run.v1();
   run.over([&](std::int32_t begin, std::int32_t end) {
     for (int d = 0; d < D; ++d) {
-      const double *v0 = s.hist_v[f0][d].data(), *v1h = s.hist_v[f1][d].data(), *v2 = s.hist_v[f2][d].data();
-      const double *a0 = s.hist_a[f0][d].data(), *a1 = s.hist_a[f1][d].data(), *a2 = s.hist_a[f2][d].data();
+      const double *v0 = run.hist_v(f0, d), *v1h = run.hist_v(f1, d), *v2 = run.hist_v(f2, d);
+      const double *a0 = run.hist_a(f0, d), *a1 = run.hist_a(f1, d), *a2 = run.hist_a(f2, d);
       const double *x = s.x[d].data(), *v = s.v[d].data();
       const double *vs = w.vs[d].data(), *as = w.as[d].data();
       double *xn = x1[d], *vn = v1[d];
@@ -519,6 +604,27 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
   return status;
 }
 
+/// all_finite's part over the values no step writes (the host sets them
+/// between steps): x_ref of particles [begin, end) unless a grid is built,
+/// and with the part that starts at 0 the listed pairs' η in an undamped
+/// model and the planes' offsets, speeds and drive time. Σ 0·value: 0 when
+/// they are finite, NaN otherwise.
+template <int D, class Run>
+double inputs_probe(const Run& run, std::int32_t begin, std::int32_t end) {
+  const DemModel<D>& m = run.m;
+  const DemState<D>& s = run.s;
+  double sum = 0;
+  if (m.features.broad_phase != BroadPhase::grid)
+    for (int d = 0; d < D; ++d) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
+  if (begin == 0) {
+    sum += 0.0 * s.plane_time;
+    if (!m.features.damped) sum += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
+    for (std::size_t p = 0; p < plane_count<Run::kPlanes>(s.plane_offset); ++p)
+      sum += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p];
+  }
+  return sum;
+}
+
 /// The check after a step: whether every value of the state a NaN or an
 /// infinity can be in is finite. It covers:
 ///  - x, v and the acceleration just stored: a NaN the step read from the
@@ -531,36 +637,35 @@ StepStatus step_abm4_events(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D
 ///    damped one reads the cached K and η of every touching pair);
 ///  - the planes' values and the time the step started from, O(planes): a NaN
 ///    there makes a contact test false instead of propagating.
+/// `inputs`: with the values no step writes (inputs_probe); the small-system
+/// step checks those once per call instead (small_step).
 template <int D, class Run>
-bool all_finite(const Run& run, double start_time, bool read_whole_history) {
-  const DemModel<D>& m = run.m;
+bool all_finite(const Run& run, double start_time, bool read_whole_history, bool inputs) {
   const DemState<D>& s = run.s;
   // The other slots, oldest first: h3 is the one the step started from (its
   // acceleration was read, its velocity copy was not).
   const int head = s.history_head, h1 = (head + 1) & 3, h2 = (head + 2) & 3, h3 = (head + 3) & 3;
-  const bool check_x_ref = m.features.broad_phase != BroadPhase::grid;
   double probe[2] = {0, 0};
   run.over([&](std::int32_t begin, std::int32_t end) {
     double sum = 0;
     for (int d = 0; d < D; ++d) {
-      const double *x = s.x[d].data(), *v = s.v[d].data(), *a = s.hist_a[head][d].data();
+      const double *x = s.x[d].data(), *v = s.v[d].data(), *a = run.hist_a(head, d);
       if (read_whole_history) {
         sum += zero_probe<3>({x, v, a}, begin, end);
       } else {
-        sum += zero_probe<8>({x, v, a, s.hist_v[h1][d].data(), s.hist_v[h2][d].data(), s.hist_v[h3][d].data(),
-                              s.hist_a[h1][d].data(), s.hist_a[h2][d].data()},
+        sum += zero_probe<8>({x, v, a, run.hist_v(h1, d), run.hist_v(h2, d), run.hist_v(h3, d), run.hist_a(h1, d),
+                              run.hist_a(h2, d)},
                              begin, end);
       }
-      if (check_x_ref) sum += zero_probe<1>({s.x_ref[d].data()}, begin, end);
     }
+    if (inputs) sum += inputs_probe<D>(run, begin, end);
     probe[begin == 0 ? 0 : 1] = sum;  // part 1 starts at split >= 1
   });
-  double planes = 0.0 * start_time + 0.0 * s.plane_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference +
-                  0.0 * s.energy.work + 0.0 * s.energy.peak;
-  if (!m.features.damped) planes += zero_probe<1>({s.pair_eta.data()}, 0, s.pair_count);
+  double planes = 0.0 * start_time + 0.0 * s.network_omega2 + 0.0 * s.energy.reference + 0.0 * s.energy.work +
+                  0.0 * s.energy.peak;
   for (std::size_t p = 0; p < plane_count<Run::kPlanes>(s.plane_offset); ++p) {
-    planes += 0.0 * s.plane_offset[p] + 0.0 * s.plane_speed[p] + 0.0 * s.plane_impulse[p];
-    for (const auto& force : s.hist_plane_force) planes += 0.0 * force[p];
+    planes += 0.0 * s.plane_impulse[p];
+    for (int slot = 0; slot < 4; ++slot) planes += 0.0 * run.hist_force(slot)[p];
   }
   return probe[0] + probe[1] + planes == 0.0;
 }
@@ -613,7 +718,8 @@ StepStatus step_with(const Run& run) {
   }
   if (m.dt > m.stable_dt || m.dt * m.dt * s.network_omega2 > m.stable_factor * m.stable_factor * (1 + 1e-12))
     status |= StepStatus::unstable_time_step;
-  if (!all_finite<D>(run, start_time, read_whole_history)) status |= StepStatus::non_finite;
+  if (!all_finite<D>(run, start_time, read_whole_history, !Run::kInputsOncePerCall))
+    status |= StepStatus::non_finite;
   const double moment_end = moment_booked ? dem_detail::external_force_moment(m, s) : 0.0;
   s.energy.work += (moment_end - moment_start) + (dem_detail::plane_work_sum<Run::kPlanes>(s) - planes_start);
   if (energy_check_due(m.energy_check, s.step))
@@ -622,10 +728,26 @@ StepStatus step_with(const Run& run) {
   return status;
 }
 
-/// The small-system step for a feature set, particle and plane count (DemModel::small_step).
+/// The small-system step for a feature set, particle and plane count
+/// (DemModel::small_step): `steps` steps in one call, so that a window of
+/// substeps pays the calls and the function's entry once.
 template <int D, bool Gravity, bool Damped, bool NonTensile, int N, int P>
-StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
-  return step_with<D>(SmallRun<D, Gravity, Damped, NonTensile, N, P>{m, s, w});
+StepStatus small_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::int32_t steps) {
+  HistoryRing<D, N, P> ring(s);
+  ring.load();
+  const SmallRun<D, Gravity, Damped, NonTensile, N, P> run{m, s, w, ring};
+  StepStatus status = StepStatus::ok;
+  bool checked = false;  // whether a step reached its finiteness check (a step not taken returns before it)
+  for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) {
+    const StepStatus step = step_with<D>(run);
+    status |= step;
+    checked |= !stop_now(step);
+  }
+  // The values no step writes: as each step's check would have found them.
+  if (checked && !(inputs_probe<D>(run, 0, dem_detail::particle_count<N>(m)) == 0.0))
+    status |= StepStatus::non_finite;
+  ring.store();
+  return status;
 }
 
 template <int D, int N, int P>
@@ -672,7 +794,7 @@ template <int D>
 StepStatus dem_step_untimed(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   if (m.accelerations == nullptr) return StepStatus::not_built;
   // The small-system step has no stage clocks: a profiled step takes the general one (same bits).
-  if (m.small_step != nullptr && w.clock_ns == nullptr) return m.small_step(m, s, w);
+  if (m.small_step != nullptr && w.clock_ns == nullptr) return m.small_step(m, s, w, 1);
   if constexpr (D > 1)
     if (m.features.rotation) return dem_detail::granular_step<D>(m, s, w);
   return step_with<D>(GeneralRun<D>{m, s, w, m.accelerations});
@@ -685,6 +807,15 @@ StepStatus dem_step(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w) {
   const StepStatus status = dem_step_untimed<D>(m, s, w);
   w.profile.step_ns += w.clock_ns() - start;
   ++w.profile.steps;
+  return status;
+}
+
+template <int D>
+StepStatus dem_steps(const DemModel<D>& m, DemState<D>& s, DemWorkspace<D>& w, std::int32_t steps) {
+  if (m.accelerations != nullptr && m.small_step != nullptr && w.clock_ns == nullptr)
+    return m.small_step(m, s, w, steps);
+  StepStatus status = StepStatus::ok;
+  for (std::int32_t k = 0; k < steps && !stop_now(status); ++k) status |= dem_step<D>(m, s, w);
   return status;
 }
 
@@ -767,5 +898,8 @@ template void dem_drive_plane<3>(const DemModel<3>&, DemState<3>&, std::int32_t,
 template StepStatus dem_step<1>(const DemModel<1>&, DemState<1>&, DemWorkspace<1>&);
 template StepStatus dem_step<2>(const DemModel<2>&, DemState<2>&, DemWorkspace<2>&);
 template StepStatus dem_step<3>(const DemModel<3>&, DemState<3>&, DemWorkspace<3>&);
+template StepStatus dem_steps<1>(const DemModel<1>&, DemState<1>&, DemWorkspace<1>&, std::int32_t);
+template StepStatus dem_steps<2>(const DemModel<2>&, DemState<2>&, DemWorkspace<2>&, std::int32_t);
+template StepStatus dem_steps<3>(const DemModel<3>&, DemState<3>&, DemWorkspace<3>&, std::int32_t);
 
 }  // namespace xfdem
