@@ -356,7 +356,7 @@ TEST(PlateTip, CentreCrackBothTipsFollowTheSecantFormula) {
 TEST(PlateTip, UniformTensionAlongACrackWithTipsIsExact) {
   const double sigma = 1e6, width = 1.0, height = 2.0;
   const double xc = 0.437;  // off the columns of nodes
-  // Round-off, not quadrature: measured ≤ 4.0e-12 (displacement) and ≤ 5.3e-11
+  // Round-off, not quadrature: measured ≤ 1.7e-12 (displacement) and ≤ 4.8e-11
   // (stress: the probes near a tip multiply the branch unknowns' round-off by
   // ∇F ~ r^(-1/2), more so with the radius's nearly dependent functions), and
   // a finer grading of the rule moves them only in their digits. The former
@@ -481,16 +481,18 @@ TEST(PlateTip, DynamicTipPlateConservesEnergyAndNeverAllocates) {
 // many polar points, signed ones among them, whose round-off does not cancel
 // in K_e t unless the build makes it; on a free plate −tᵀK u is the rate of
 // the momentum, and u grows as the plate drifts. Free cracked plates with two
-// tips inside cells, near a row of nodes, and with branch functions within a
-// radius.
+// tips inside cells, 1e-7 of a cell off rows of nodes, and a crack along cell
+// middles; topological and within a radius.
 TEST(PlateTip, RigidTranslationsStrainNothingWithTips) {
   struct Crack {
     const char* what;
     xfem::Point2 a, b;
   };
+  // Rows of nodes at y = (2j − 11)/11; y = 0 runs through cell middles.
+  const double h = 2.0 / 11;
   const Crack cracks[] = {{"inside cells", {-0.43, -0.21}, {0.38, 0.27}},
-                          {"1e-7 of a cell off a row", {-0.5 + 1e-7 * 2.0 / 11, -0.3}, {0.3, 0.1818181818181818 + 2e-8}},
-                          {"along a row", {-0.61, 0.0}, {0.52, 0.0}}};
+                          {"1e-7 of a cell off rows", {-0.43, -1.0 / 11 + 1e-7 * h}, {0.38, 3.0 / 11 - 1e-7 * h}},
+                          {"along cell middles", {-0.61, 0.0}, {0.52, 0.0}}};
   double worst = 0.0;
   for (const Crack& c : cracks)
     for (const double radius : {0.0, 0.3}) {
