@@ -1044,6 +1044,46 @@ void face_terms(const PlateModel& m, const CellView& v, int k, double xi, double
   }
 }
 
+/// Makes a symmetric element stiffness k (nf × nf, the four standard
+/// functions' x, y first, as make_view orders them) annihilate the two rigid
+/// translations t (1 on the standard x, or y, unknowns, 0 on the enrichments)
+/// to the round-off of one sum: k t = 0 exactly, but a sum over many
+/// quadrature points (the polar rule's, signed ones among them) leaves each
+/// row's sum over the translation's columns at their accumulated round-off,
+/// and on a free, drifting plate −tᵀK u, the rate of its momentum, grows with
+/// u. Each row's standard entries are set from the others in it, the same
+/// entry on both sides of the diagonal: a change of round-off size.
+template <class Mat>
+void annihilate_translations(Mat& k, int nf) {
+  for (int c = 0; c < 2; ++c) {
+    // Enrichment rows: their last standard entry of component c closes the sum.
+    for (int r = 8; r < nf; ++r) {
+      const double s = k(r, c) + k(r, 2 + c) + k(r, 4 + c);
+      k(r, 6 + c) = k(6 + c, r) = -s;
+    }
+    // The standard block's c–c part (symmetric): its diagonal closes each row.
+    for (int a = 0; a < 4; ++a) {
+      double s = 0.0;
+      for (int b = 0; b < 4; ++b)
+        if (b != a) s += k(2 * a + c, 2 * b + c);
+      k(2 * a + c, 2 * a + c) = -s;
+    }
+  }
+  // The x–y part B(a, b) = k(2a, 2b + 1) = k(2b + 1, 2a): its rows (the x rows
+  // against t_y) and its columns (the y rows against t_x) both sum to 0; its
+  // last row and column close them.
+  for (int a = 0; a < 3; ++a) {
+    const double s = k(2 * a, 1) + k(2 * a, 3) + k(2 * a, 5);
+    k(2 * a, 7) = k(7, 2 * a) = -s;
+  }
+  for (int b = 0; b < 3; ++b) {
+    const double s = k(0, 2 * b + 1) + k(2, 2 * b + 1) + k(4, 2 * b + 1);
+    k(6, 2 * b + 1) = k(2 * b + 1, 6) = -s;
+  }
+  const double s = k(6, 1) + k(6, 3) + k(6, 5);
+  k(6, 7) = k(7, 6) = -s;
+}
+
 }  // namespace
 
 void plate_subtract_stiffness_product(const PlateModel& m, const double* x, double* y) {
@@ -1767,6 +1807,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             ke_general(c, r) = ke_general(r, c);
             me_general(c, r) = me_general(r, c);
           }
+        annihilate_translations(ke_general, nf);
         ke = ke_general.data();  // column-major = row-major for a symmetric matrix
         me = me_general.data();
         stride = nf;
