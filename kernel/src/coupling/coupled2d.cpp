@@ -970,7 +970,8 @@ double coupled2d_boundary_energy(const Coupled2dModel& m, const Coupled2dState& 
   // spring's own as the step matches them: its chain, the nearest normal
   // within 60° (rotating_contacts).
   const bool springs = m.rotating && !hertz && m.dem.friction > 0;
-  const double* const xi[2] = {s.springs.xi.data(), s.springs.xi.data() + 1};
+  // The springs' x and y components, interleaved (none without friction).
+  const double* const xi[2] = {s.springs.xi.data(), springs ? s.springs.xi.data() + 1 : nullptr};
   double energy = 0;
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
