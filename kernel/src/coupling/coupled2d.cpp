@@ -236,6 +236,14 @@ double segment_spin(const PlateBoundary& b, const Coupled2dWorkspace& w, int seg
   return (l[0] * d[1] - l[1] * d[0]) / (l[0] * l[0] + l[1] * l[1]) / dt;
 }
 
+/// A segment's quantity at a contact: its segment's, or a blended contact's
+/// blend (1 − w)·its edge's + w·the partner's, as its force is shared.
+template <class F>
+double over_segments(const PlateBoundaryContact& ct, F&& of_segment) {
+  if (ct.partner < 0) return of_segment(ct.segment);
+  return (1.0 - ct.partner_weight) * of_segment(ct.segment) + ct.partner_weight * of_segment(ct.partner);
+}
+
 /// The hertz compliances (1 − ν²)/E and 2(2 − ν)(1 + ν)/E of the material
 /// the boundary's segment bounds (the plate's, or an inclusion's where the
 /// segment lies in it); 0 for the other laws.
@@ -295,9 +303,7 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     // The boundary's spin there; a blended contact's is the blend of its two
     // edges' (at a node that the plate bends, the two turn apart, and the
     // nearer edge's alone would jump as the contact moves across).
-    const double spin = ct.partner < 0 ? segment_spin(m.boundary, w, ct.segment, m.dt)
-                                       : (1.0 - ct.partner_weight) * segment_spin(m.boundary, w, ct.segment, m.dt) +
-                                             ct.partner_weight * segment_spin(m.boundary, w, ct.partner, m.dt);
+    const double spin = over_segments(ct, [&](int k) { return segment_spin(m.boundary, w, k, m.dt); });
     wall.spin = &spin;
     segment_compliance(m, ct.segment, wall.inv_e, wall.inv_g);
     // Rolling resistance holds the disk within the substep h at every
@@ -312,9 +318,7 @@ int rotating_contacts(const Coupled2dModel& m, Coupled2dState& s, const Coupled2
     // the disk's I/h alone would make the window's map far too steep in the
     // boundary's spin (the passes could not settle).
     if (!m.segment_inv_turn.empty())
-      wall.inv_inertia = ct.partner < 0 ? m.segment_inv_turn[static_cast<std::size_t>(ct.segment)]
-                                        : (1.0 - ct.partner_weight) * m.segment_inv_turn[static_cast<std::size_t>(ct.segment)] +
-                                              ct.partner_weight * m.segment_inv_turn[static_cast<std::size_t>(ct.partner)];
+      wall.inv_inertia = over_segments(ct, [&](int k) { return m.segment_inv_turn[static_cast<std::size_t>(k)]; });
     // The arm to the contact point on the boundary, p − x = −(r − δ) n: the
     // disk's torque is (p − x) × F, the plate's moment of −F at p its exact
     // opposite, and the sliding velocity is that of the disk's point at p.
