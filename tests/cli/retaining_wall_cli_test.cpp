@@ -7,11 +7,17 @@
 //    each probed disk's height its closed form, and the wall is untouched
 //    (every wall probe exactly 0); after it, the floor has pushed the bed up;
 //  - the same bytes on one and two workers (2912 disks: two workers split them).
+// Under AddressSanitizer the scene's 2912 disks run some 20 times slower: the
+// sanitizer build compares the two workers over the first 50 plate steps (the
+// split step on a falling bed, before it lands; Coupled2dCli's own
+// two-worker test covers a bed in contact under the sanitizer) and leaves
+// the fall's physics to the release build.
 #include <gtest/gtest.h>
 
 #include "scene/json_reader.hpp"
 #include "support/command.hpp"
 #include "support/csv.hpp"
+#include "support/sanitizers.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -36,6 +42,11 @@ fs::path scratch() { return xfdem::testing::scratch("retaining_wall_cli_test"); 
 Result run(const std::string& args) { return xfdem::testing::run_command(XFDEM_CLI, args); }
 
 const std::string kShort = " --set time.end=0.03 --set output.every=0.0001";
+#ifdef XFDEM_UNDER_ASAN
+const std::string kTwoWorkersRun = " --set time.end=0.005 --set output.every=0.0001";
+#else
+const std::string kTwoWorkersRun = kShort;
+#endif
 
 xfdem::scene::Json wall_scene() {
   std::ifstream in(xfdem::testing::scene_file("demo/retaining_wall.json"));
@@ -47,6 +58,10 @@ xfdem::scene::Json wall_scene() {
 }  // namespace
 
 TEST(RetainingWallCli, TheBackfillFallsFreelyUntilItLandsAndTheWallIsUntouched) {
+#ifdef XFDEM_UNDER_ASAN
+  GTEST_SKIP() << "300 plate steps of 2912 disks: the release build checks the fall; "
+                  "SameBytesOnOneAndTwoWorkers runs the scene under the sanitizer";
+#endif
   const xfdem::scene::Json s = wall_scene();
   const double g = -s["gravity"][1].get<double>();
   const double dt = s["time"]["dt"].get<double>();
@@ -134,9 +149,9 @@ TEST(RetainingWallCli, TheBackfillFallsFreelyUntilItLandsAndTheWallIsUntouched) 
 TEST(RetainingWallCli, SameBytesOnOneAndTwoWorkers) {
   const fs::path a = scratch() / "one.csv", b = scratch() / "two.csv";
   const std::string scene = xfdem::testing::scene_file("demo/retaining_wall.json");
-  const Result r1 = run("run " + scene + kShort + " --csv " + a.string());
+  const Result r1 = run("run " + scene + kTwoWorkersRun + " --csv " + a.string());
   ASSERT_EQ(r1.exit_code, 0) << r1.err;
-  const Result r2 = run("run " + scene + kShort + " --threads 2 --csv " + b.string());
+  const Result r2 = run("run " + scene + kTwoWorkersRun + " --threads 2 --csv " + b.string());
   ASSERT_EQ(r2.exit_code, 0) << r2.err;
   EXPECT_EQ(slurp(a), slurp(b));
 }
