@@ -216,6 +216,16 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[3,0],[3,1]]}]'",
                       "scene key 'continuum.discontinuities.0.points': the crack 'c' does not enter the domain"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.41,0.52],[0.44,0.52]]}]'",
+                      "scene key 'continuum.discontinuities.0.points': the crack 'c' from (0.41, 0.52) to (0.44, 0.52) "
+                      "lies inside the cell (4, 5)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
+                      "\"points\":[[-1,0.33],[0.45,0.33],[0.48,0.36]]}]'",
+                      "scene key 'continuum.discontinuities.0.points': the crack 'c' bends inside the cell holding its tip "
+                      "at (0.48, 0.36)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.33],[0.45,0.33]]},"
+                      "{\"name\":\"d\",\"type\":\"crack\",\"points\":[[0.48,0.36],[3,0.36]]}]'",
+                      "scene key 'continuum.discontinuities.1.points': two crack tips in the cell (4, 3)"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-1,0.3],[1,0.3]],"
                       "\"faces\":\"tied\",\"stiffness\":[1e13,0]}]'",
                       "scene key 'continuum.discontinuities.0.stiffness.1': must be > 0 (got 0)"},

@@ -1473,11 +1473,19 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         // Where the crack leaves the tip's cell: along the tip's segment, which must leave it.
         const Point2 prev = at_end ? q.points[q.points.size() - 2] : q.points[1];
         const double lo[2] = {xs(ci), ys(cj)}, hi[2] = {xs(ci + 1), ys(cj + 1)};
-        if (!tip_exit(lo, hi, f.origin, prev, tip.exit))
+        if (!tip_exit(lo, hi, f.origin, prev, tip.exit)) {
+          if (q.points.size() == 2)  // the straight crack's other end is in the tip's cell too
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%zu.points: the crack '%s' from (%g, %g) to (%g, %g) lies "
+                                        "inside the cell (%d, %d); this build needs a crack to leave the cell of each "
+                                        "tip (refine the mesh)",
+                                        k, q.name.c_str(), q.points.front()[0], q.points.front()[1],
+                                        q.points.back()[0], q.points.back()[1], ci, cj);
           return BuildResult::failure(Code::invalid_argument,
                                       "discontinuities.%zu.points: the crack '%s' bends inside the cell holding its tip "
                                       "at (%g, %g); this build needs it straight there (refine the mesh)",
                                       k, q.name.c_str(), f.origin[0], f.origin[1]);
+        }
         tip.cell = static_cast<int>(cell);
         model.cell_tip[cell] = static_cast<int>(model.tips.size());
         model.tips.push_back(tip);
