@@ -312,6 +312,12 @@ struct PlateWorkspace {
   std::vector<char> active, factored_active;
   xfem::SymmetricBand effective;
   xfem::SparseLdlt factor;
+  /// When the active set cycles, the damped Newton iteration that follows
+  /// (docs/xfem2d.md, "Unilateral faces"): its iterate, M_eff k − f at it
+  /// and at the Newton point (per unknown), and each point's gap at the
+  /// iterate and its change along the step (per face point).
+  std::vector<double> line_k, line_q, line_qn, line_gap, line_dgap;
+  std::int64_t damped_solves = 0;  ///< solves that needed the damped iteration (summed)
   /// The energy rule of unilateral faces (docs/xfem2d.md): the state the
   /// step started from, the points held closed when a step is redone, and
   /// its books: steps redone with openings held, energy taken out of the

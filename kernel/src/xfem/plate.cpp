@@ -5,6 +5,7 @@
 #include "xfdem/xfem/level_set.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -1147,6 +1148,49 @@ inline void add_face_penalty(xfem::SymmetricBand& a, const PlateModel::FacePoint
   }
 }
 
+/// y −= w k_n g_p n_p for every point p in `set`, g_p = gap[p]: the face
+/// springs' force on the unknowns at the gaps given.
+inline void add_face_forces(const PlateModel& m, const char* set, const double* gap, double* y) {
+  for (std::size_t p = 0; p < m.face_points.size(); ++p) {
+    if (!set[p]) continue;
+    const PlateModel::FacePoint& fp = m.face_points[p];
+    const double force = fp.weight * fp.k_normal * gap[p];
+    for (int a = 0; a < fp.terms; ++a)
+      if (fp.dof[a] >= 0) y[fp.dof[a]] -= force * fp.normal[a];
+  }
+}
+
+/// The step length of the damped Newton iteration on unilateral faces
+/// (docs/xfem2d.md, "Unilateral faces"): the minimiser over (0, 1] of the
+/// solve's convex energy along the Newton step d,
+///   F(k) = ½ kᵀEk − bᵀk + Σ_p ½ w k_n min(g_p, 0)² / fac0   (g_p = gᵀ(x + fac0 k)),
+/// a held point's spring acting whatever the sign (½ w k_n g_p²). Along d,
+///   φ'(α) = s1 + α s2 + Σ_p w k_n m_p(gap_p + α dgap_p) dgap_p / fac0,
+/// with s1 = dᵀ(Ek − b), s2 = dᵀEd ≥ 0 and each m_p non-decreasing, so φ' does
+/// not decrease and bisection finds its zero (to the last bit of α).
+inline double face_line_search(const PlateModel& m, const char* held, const double* gap, const double* dgap,
+                               double fac0, double s1, double s2) {
+  auto slope = [&](double alpha) {
+    double sum = 0.0;
+    for (std::size_t p = 0; p < m.face_points.size(); ++p) {
+      const PlateModel::FacePoint& fp = m.face_points[p];
+      if (!fp.unilateral) continue;
+      double g = gap[p] + alpha * dgap[p];
+      if (g > 0.0 && (held == nullptr || !held[p])) g = 0.0;
+      sum += fp.weight * fp.k_normal * g * dgap[p];
+    }
+    return s1 + alpha * s2 + sum / fac0;
+  };
+  if (slope(1.0) <= 0.0) return 1.0;
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 80; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (slope(mid) > 0.0 ? hi : lo) = mid;
+  }
+  return hi;
+}
+
 /// y −= C x for the consistent blocks of the dashpots (PlateModel::absorb_*).
 inline void subtract_absorb_product(const PlateModel& m, const double* x, double* y) {
   const std::size_t blocks = m.absorb_start.empty() ? 0 : m.absorb_start.size() - 1;
@@ -1235,12 +1279,104 @@ class PlateOperator {
       }
       if (same) return StepStatus::ok;
     }
-    return StepStatus::active_set_not_converged;
+    return settle_by_line_search(fac0, x, base, k);
   }
 
   static constexpr int kMaxActiveSetIterations = 16;
+  static constexpr int kMaxDampedIterations = 200;
 
  private:
+  /// The plain iteration above is Newton's method on the solve's convex,
+  /// piecewise quadratic energy (each solve minimises it with the set of the
+  /// last iterate), and undamped it can cycle between sets. From its last
+  /// solve this continues it damped: the Newton point for the set of the
+  /// current iterate, then the exact minimiser along the way to it
+  /// (face_line_search), which lowers the energy at every iteration and so
+  /// cannot cycle. It ends when the Newton point's set is the iterate's (the
+  /// exact solution), when every point whose state still changes has a gap
+  /// within its own rounding (a contact that neither pushes nor separates,
+  /// which flips on round-off), or when the step along the way no longer
+  /// moves the iterate (no descent the arithmetic can resolve).
+  StepStatus settle_by_line_search(double fac0, const double* x, const double* base, double* k) const {
+    const int n = m_.dofs;
+    const std::size_t points = m_.face_points.size();
+    double *kc = ws_.line_k.data(), *q = ws_.line_q.data(), *qn = ws_.line_qn.data();
+    double *gap = ws_.line_gap.data(), *dgap = ws_.line_dgap.data();
+    auto gap_at = [&](const PlateModel::FacePoint& fp, const double* kk) {
+      double g = 0.0;
+      for (int a = 0; a < fp.terms; ++a)
+        if (fp.dof[a] >= 0) g += fp.normal[a] * (x[fp.dof[a]] + fac0 * kk[fp.dof[a]]);
+      return g;
+    };
+    auto held = [&](std::size_t p) { return held_ != nullptr && held_[p] != 0; };
+    ++ws_.damped_solves;
+    // k solved the set factored last, so E k − b = −Σ_{that set} w k_n g_p(k) n_p.
+    for (int i = 0; i < n; ++i) kc[i] = k[i], q[i] = 0.0;
+    for (std::size_t p = 0; p < points; ++p) gap[p] = gap_at(m_.face_points[p], kc);
+    add_face_forces(m_, ws_.factored_active.data(), gap, q);
+    for (int iteration = 0; iteration < kMaxDampedIterations; ++iteration) {
+      for (std::size_t p = 0; p < points; ++p)
+        ws_.active[p] = m_.face_points[p].unilateral && (gap[p] < 0.0 || held(p)) ? 1 : 0;
+      for (int i = 0; i < n; ++i) k[i] = base[i];
+      for (std::size_t p = 0; p < points; ++p) {
+        if (!ws_.active[p]) continue;
+        const PlateModel::FacePoint& fp = m_.face_points[p];
+        const double force = fp.weight * fp.k_normal * face_gap(fp, x);
+        for (int a = 0; a < fp.terms; ++a)
+          if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
+      }
+      if (ws_.active != ws_.factored_active) {
+        ws_.effective = m_.base_effective;
+        for (std::size_t p = 0; p < points; ++p)
+          if (ws_.active[p]) add_face_penalty(ws_.effective, m_.face_points[p], fac0);
+        ws_.factor.factor(ws_.effective);
+        ws_.factored_active = ws_.active;
+      }
+      ws_.factor.solve(k, ws_.solve_work.data());
+      bool same = true, round_off = true;
+      for (std::size_t p = 0; p < points; ++p) {
+        const PlateModel::FacePoint& fp = m_.face_points[p];
+        const double g = dgap[p] = gap_at(fp, k);  // the Newton point's gap, for now
+        if (!fp.unilateral) continue;
+        const char now = g < 0.0 || held(p) ? 1 : 0;
+        if (now != ws_.active[p]) {
+          same = false;
+          // The sign of a gap within its own rounding (64 ε of its terms) is not known.
+          double terms = 0.0;
+          for (int a = 0; a < fp.terms; ++a)
+            if (fp.dof[a] >= 0) terms += std::fabs(fp.normal[a] * (x[fp.dof[a]] + fac0 * k[fp.dof[a]]));
+          if (std::fabs(g) > 64.0 * DBL_EPSILON * terms) round_off = false;
+        }
+      }
+      if (same || round_off) return StepStatus::ok;
+      // E k_N − b = −Σ_active w k_n g_p(k_N) n_p, so E d = qn − q.
+      for (int i = 0; i < n; ++i) qn[i] = 0.0;
+      add_face_forces(m_, ws_.active.data(), dgap, qn);
+      for (std::size_t p = 0; p < points; ++p) dgap[p] -= gap[p];  // the change along the step
+      double s1 = 0.0, s2 = 0.0;
+      for (int i = 0; i < n; ++i) {
+        const double d = k[i] - kc[i];
+        s1 += d * q[i];
+        s2 += d * (qn[i] - q[i]);
+      }
+      const double alpha = face_line_search(m_, held_, gap, dgap, fac0, s1, s2);
+      bool moved = false;
+      for (int i = 0; i < n; ++i) {
+        const double next = kc[i] + alpha * (k[i] - kc[i]);
+        moved = moved || next != kc[i];
+        kc[i] = next;
+        q[i] += alpha * (qn[i] - q[i]);
+      }
+      if (!moved) {  // no descent the arithmetic can see: the iterate is the minimiser to round-off
+        for (int i = 0; i < n; ++i) k[i] = kc[i];
+        return StepStatus::ok;
+      }
+      for (std::size_t p = 0; p < points; ++p) gap[p] = gap_at(m_.face_points[p], kc);
+    }
+    for (int i = 0; i < n; ++i) k[i] = kc[i];
+    return StepStatus::active_set_not_converged;
+  }
+
   const PlateModel& m_;
   PlateWorkspace& ws_;
   const char* held_;  ///< non-null: the active set of every solve (a redone step)
@@ -2268,9 +2404,65 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         settled = updated == active;
         active.swap(updated);
       }
+      // A set that cycles: the damped iteration of a dynamic step
+      // (PlateOperator::settle_by_line_search), with fac0 = 1 and x = 0, from
+      // the last solve, which solved the set now in `updated`.
+      const int damped_cap = 200;
+      int damped = 0;
+      if (!settled) {
+        std::vector<double> uc(state.u), q(nds, 0.0), qn(nds, 0.0), gap(points, 0.0), dgap(points, 0.0);
+        for (std::size_t p = 0; p < points; ++p) gap[p] = detail::face_gap(model.face_points[p], uc.data());
+        detail::add_face_forces(model, updated.data(), gap.data(), q.data());  // K u − f
+        for (; damped < damped_cap && !settled; ++damped) {
+          xfem::SymmetricBand k_active = model.stiffness;
+          for (std::size_t p = 0; p < points; ++p)
+            if (active[p]) detail::add_face_penalty(k_active, model.face_points[p], 1.0);
+          if (!factor_k(k_active))
+            return BuildResult::failure(Code::invalid_argument,
+                                        "supports: the plate is not held against rigid motion once its unilateral "
+                                        "crack faces %s (its stiffness is singular)",
+                                        "open");
+          solve();  // the Newton point for the iterate's set, into u
+          double scale = 0.0;
+          for (const double x : state.u) scale = std::max(scale, std::fabs(x));
+          const double tol = 1e-12 * scale;
+          for (std::size_t p = 0; p < points; ++p) {
+            const double g = dgap[p] = detail::face_gap(model.face_points[p], u);  // the Newton point's gap, for now
+            updated[p] = !model.face_points[p].unilateral ? 0 : g < -tol ? 1 : g > tol ? 0 : active[p];
+          }
+          settled = updated == active;
+          if (settled) break;
+          // K u_N − f = −Σ_active w k_n g_p(u_N) n_p, so K d = qn − q.
+          std::fill(qn.begin(), qn.end(), 0.0);
+          detail::add_face_forces(model, active.data(), dgap.data(), qn.data());
+          for (std::size_t p = 0; p < points; ++p) dgap[p] -= gap[p];  // the change along the step
+          double s1 = 0.0, s2 = 0.0;
+          for (std::size_t i = 0; i < nds; ++i) {
+            const double dir = u[i] - uc[i];
+            s1 += dir * q[i];
+            s2 += dir * (qn[i] - q[i]);
+          }
+          const double alpha = detail::face_line_search(model, nullptr, gap.data(), dgap.data(), 1.0, s1, s2);
+          double scale_c = 0.0;
+          for (std::size_t i = 0; i < nds; ++i) {
+            uc[i] += alpha * (u[i] - uc[i]);
+            q[i] += alpha * (qn[i] - q[i]);
+            scale_c = std::max(scale_c, std::fabs(uc[i]));
+          }
+          // The iterate's set, by the same rule.
+          for (std::size_t p = 0; p < points; ++p) {
+            const double g = gap[p] = detail::face_gap(model.face_points[p], uc.data());
+            updated[p] = !model.face_points[p].unilateral ? 0 : g < -1e-12 * scale_c ? 1 : g > 1e-12 * scale_c ? 0 : active[p];
+          }
+          active.swap(updated);
+        }
+      }
       if (!settled)
         return BuildResult::failure(Code::invalid_argument,
-                                    "discontinuities: the unilateral faces' active set did not settle in %d solves", 64);
+                                    "discontinuities: the unilateral faces' active set did not settle in %d solves "
+                                    "(%d of them damped)",
+                                    64 + damped, damped);
+      workspace.damped_solves = damped > 0 ? 1 : 0;
     }
     model.built = true;
     if (!all_finite(state.u)) {
@@ -2316,6 +2508,10 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       workspace.u_start.assign(static_cast<std::size_t>(nd), 0.0);
       workspace.v_start.assign(static_cast<std::size_t>(nd), 0.0);
       workspace.a_start.assign(static_cast<std::size_t>(nd), 0.0);
+      for (auto* v : {&workspace.line_k, &workspace.line_q, &workspace.line_qn})
+        v->assign(static_cast<std::size_t>(nd), 0.0);
+      workspace.line_gap.assign(model.face_points.size(), 0.0);
+      workspace.line_dgap.assign(model.face_points.size(), 0.0);
     }
   }
   model.built = true;
