@@ -216,6 +216,15 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[3,0],[3,1]]}]'",
                       "scene key 'continuum.discontinuities.0.points': the crack 'c' does not enter the domain"},
+        // Branch functions within 0.3 over cells 0.3 x 0.025: nearly dependent.
+        PlateBadInput{"--set continuum.domain.max=[3,0.5] --set continuum.cells=[10,20] "
+                      "--set continuum.tip_enrichment.radius=0.3 --set 'continuum.discontinuities=[{\"name\":\"c0\","
+                      "\"type\":\"crack\",\"points\":[[2.378,0.0589],[2.668,2.012]]},{\"name\":\"c1\",\"type\":"
+                      "\"crack\",\"points\":[[2.976,0.3756],[4.178,1.726]]}]' "
+                      "--set 'output.probes=[{\"name\":\"E\",\"quantity\":\"energy\",\"of\":\"total\"}]'",
+                      "scene key 'continuum.tip_enrichment.radius': the mass matrix is not positive definite to working "
+                      "precision: the branch functions within 0.3 of a tip, over cells of 0.3 x 0.025, are nearly "
+                      "dependent"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.41,0.52],[0.44,0.52]]}]'",
                       "scene key 'continuum.discontinuities.0.points': the crack 'c' from (0.41, 0.52) to (0.44, 0.52) "
                       "lies inside the cell (4, 5)"},

@@ -2476,8 +2476,21 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   // ---- dynamic: factor M and M + γΔt C + βΔt² K -------------------------------
   model.scheme = xfem::NewmarkScheme{d.beta, d.gamma, d.dt};
   model.mass_factor.analyse(model.mass, {});
-  if (!model.mass_factor.factor(model.mass))
-    return BuildResult::failure(Code::invalid_argument, "cells: the mass matrix is not positive definite");
+  if (!model.mass_factor.factor(model.mass)) {
+    // Mathematically the mass matrix is positive definite (a Gram matrix of
+    // independent functions); in floating point it is not when enriched
+    // functions are nearly dependent, which branch functions within a radius
+    // over many (or elongated) cells are.
+    if (d.tip_radius > 0.0)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "tip_enrichment.radius: the mass matrix is not positive definite to working "
+                                  "precision: the branch functions within %g of a tip, over cells of %g x %g, are "
+                                  "nearly dependent (reduce the radius, or use cells closer to square)",
+                                  d.tip_radius, (d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
+    return BuildResult::failure(Code::invalid_argument,
+                                "cells: the mass matrix is not positive definite to working precision (nearly "
+                                "dependent enriched functions)");
+  }
   {
     xfem::SymmetricBand eff = model.mass;
     const double fac0 = model.scheme.fac0(), fac1 = model.scheme.fac1();
