@@ -216,6 +216,9 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set continuum.material.colour=1", "scene key 'continuum.material.colour': unknown key"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[3,0],[3,1]]}]'",
                       "scene key 'continuum.discontinuities.0.points': the crack 'c' does not enter the domain"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.43,0.52],[0.57,0.52]]}]'",
+                      "scene key 'continuum.discontinuities.0.points': the node at (0.5, 0.5) belongs to the cells of "
+                      "two crack tips (the start of 'c' and the end of 'c')"},
         // Branch functions within 0.3 over cells 0.3 x 0.025: nearly dependent.
         PlateBadInput{"--set continuum.domain.max=[3,0.5] --set continuum.cells=[10,20] "
                       "--set continuum.tip_enrichment.radius=0.3 --set 'continuum.discontinuities=[{\"name\":\"c0\","

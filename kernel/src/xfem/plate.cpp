@@ -1644,11 +1644,23 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         const bool own = n == en[0] || n == en[1] || n == en[2] || n == en[3] || tip_touches(model, tip, lo, hi);
         if (!own && !(d.tip_radius > 0.0 && dx * dx + dy * dy <= r2)) continue;
         int& slot = model.node_tip[static_cast<std::size_t>(n)];
-        if (slot >= 0 && slot != static_cast<int>(t))
+        if (slot >= 0 && slot != static_cast<int>(t)) {
+          const PlateModel::Tip& first = model.tips[static_cast<std::size_t>(slot)];
+          const char* a = d.discontinuities[static_cast<std::size_t>(first.crack)].name.c_str();
+          const char* b = d.discontinuities[static_cast<std::size_t>(tip.crack)].name.c_str();
+          if (d.tip_radius > 0.0 && !own)
+            return BuildResult::failure(Code::invalid_argument,
+                                        "tip_enrichment.radius: the node at (%g, %g) is within reach of two crack tips "
+                                        "(the %s of '%s' and the %s of '%s'; reduce the radius or refine the mesh)",
+                                        xs(n % (nx + 1)), ys(n / (nx + 1)), first.at_end ? "end" : "start", a,
+                                        tip.at_end ? "end" : "start", b);
           return BuildResult::failure(Code::invalid_argument,
-                                      "tip_enrichment.radius: the node at (%g, %g) is within reach of two crack tips "
-                                      "(reduce the radius or refine the mesh)",
-                                      xs(n % (nx + 1)), ys(n / (nx + 1)));
+                                      "discontinuities.%d.points: the node at (%g, %g) belongs to the cells of two "
+                                      "crack tips (the %s of '%s' and the %s of '%s'); this build gives a node the "
+                                      "branch functions of one tip: refine the mesh",
+                                      tip.crack, xs(n % (nx + 1)), ys(n / (nx + 1)), first.at_end ? "end" : "start", a,
+                                      tip.at_end ? "end" : "start", b);
+        }
         if (slot < 0) ++model.tip_nodes;
         slot = static_cast<int>(t);
       }
