@@ -358,5 +358,86 @@ TEST(RollingHold, SphereRollsOffAHeldSphereAboveTheBound) {
   for (DemIntegrator integrator : kRotating) rolls_off_a_particle<3>(integrator);
 }
 
+/// Two equal disks (m = 1, r = 0.05, k = 1e6) pressed together along x by
+/// external forces ±P (no gravity), at the static overlap P/K, with external
+/// torques +T on the right disk and −T on the left: by symmetry they turn
+/// opposite ways, ω_i = −ω_j, so their surfaces move together at the
+/// contact (r ω_i + r ω_j = 0): no slip, no tangential force, the line of
+/// centres fixed, and the relative rolling w = ω_j − ω_i = 2 ω_j meets only
+/// the rolling couple, whose cap is μ_r R* P (R* = r/2).
+struct PairTurn {
+  double spin_rate, spin, mirror_gap, tangential_speed;
+};
+PairTurn counter_rotating_pair(double torque, double mu_r, DemIntegrator integrator, int steps, int from) {
+  const double P = kG, r = 0.05, k = 1e6, K = 0.5 * k;
+  DemDesc<2> d;
+  d.dt = 1e-5;
+  d.damping_ratio = 0.5;
+  d.friction = 0.5;
+  d.rolling_friction = mu_r;
+  d.integrator = integrator;
+  d.external_forces = true;
+  d.external_torques = true;
+  d.energy_check.interval = 1;
+  ParticleDesc<2> left, right;
+  left.mass = right.mass = 1;
+  left.radius = right.radius = r;
+  left.stiffness = right.stiffness = k;
+  const double distance = 2 * r - P / K;
+  left.position = {-0.5 * distance, 0};
+  right.position = {0.5 * distance, 0};
+  d.particles = {left, right};
+  DemWorld<2> world;
+  EXPECT_TRUE(world.build(d).ok());
+  world.state.external_force[0][0] = P;
+  world.state.external_force[0][1] = -P;
+  world.state.external_torque[0][0] = -torque;
+  world.state.external_torque[0][1] = torque;
+  dem_inputs_changed(world.state);
+  double w0 = 0, gap = 0, vy = 0;
+  for (int s = 1; s <= steps; ++s) {
+    const StepStatus status = world.step();
+    if (status != StepStatus::ok) {
+      ADD_FAILURE() << integrator_name(integrator) << " step " << s << ": " << static_cast<unsigned>(status);
+      break;
+    }
+    if (s == from) w0 = world.state.w[0][1];
+    gap = std::max(gap, std::fabs(world.state.w[0][0] + world.state.w[0][1]));
+    vy = std::max({vy, std::fabs(world.state.v[1][0]), std::fabs(world.state.v[1][1])});
+  }
+  return {(world.state.w[0][1] - w0) / ((steps - from) * d.dt), world.state.w[0][1], gap, vy};
+}
+
+// (1c, 2d) A pair's couple against the relative rolling alone (no
+// tangential force), 2D. Above the cap, T = 1.5 μ_r R* P: the couple is the
+// cap from the second evaluation on (the first sees w = 0 and no tangential
+// torque: no couple), so each disk spins up at (T − μ_r R* P)/I, a constant
+// every integrator steps exactly (1e-9 relative, as above).
+// Below the cap, T = μ_r R* P/2, the known limit of a contact-local hold:
+// the couple cancels this contact's own tangential torques, not a torque
+// from elsewhere (an external torque here; another contact's net couple in a
+// packing). That torque is balanced only by the clamp −w/(Δt K), at the
+// creep w = Δt K T (K = 2/I), ω_j = Δt T/I: a closed form, asserted to
+// 1e-9 relative after the clamp's decay (a factor ≤ 1/2 a step).
+void pair_couple(DemIntegrator integrator) {
+  const double mu_r = 0.3, r = 0.05, inertia = 0.5 * r * r, cap = mu_r * 0.5 * r * kG;
+  const PairTurn above = counter_rotating_pair(1.5 * cap, mu_r, integrator, 20000, 100);
+  const double alpha = (1.5 * cap - cap) / inertia;
+  const PairTurn below = counter_rotating_pair(0.5 * cap, mu_r, integrator, 2000, 1000);
+  const double creep = 1e-5 * 0.5 * cap / inertia;
+  std::printf("%s pair couple: above the cap spin-up %.12g rad/s^2 (closed form %.12g); below it the spin %.12g "
+              "rad/s (creep dt T/I %.12g); |w_i + w_j| <= %.1e, |v_y| <= %.1e\n",
+              integrator_name(integrator), above.spin_rate, alpha, below.spin, creep,
+              std::max(above.mirror_gap, below.mirror_gap), std::max(above.tangential_speed, below.tangential_speed));
+  EXPECT_NEAR(above.spin_rate, alpha, 1e-9 * alpha);
+  EXPECT_NEAR(below.spin, creep, 1e-9 * creep);
+  EXPECT_NEAR(below.spin_rate, 0.0, 1e-9 * alpha);
+  EXPECT_EQ(above.mirror_gap, 0.0);  // ω_i = −ω_j to the bit: no slip, no tangential force
+  EXPECT_EQ(above.tangential_speed, 0.0);
+}
+TEST(RollingHold, PairCoupleAtTheCapAndTheCreepOfATorqueFromElsewhere) {
+  for (DemIntegrator integrator : kRotating) pair_couple(integrator);
+}
+
 }  // namespace
 }  // namespace xfdem::testing
