@@ -153,8 +153,8 @@ struct DemDesc {
   double friction = 0;
   /// k_t / k_n of the tangential spring (> 0); 0: kDefaultTangentialStiffnessRatio.
   double tangential_stiffness_ratio = 0;
-  /// Rolling resistance μ_r (>= 0): a torque μ_r R* |F_n| against the
-  /// relative rolling, never reversing it within a step.
+  /// Rolling resistance μ_r (>= 0): a couple ≤ μ_r R* |F_n| that stops the relative rolling
+  /// within dt with the contact's tangential torques (holds tan θ ≤ μ_r), the cap above (docs/dem.md).
   double rolling_friction = 0;
   /// Coefficient of restitution e in (0, 1] of the hertz law (normal and
   /// tangential damping, β = ln e / √(ln² e + π²)); 1: undamped. Other laws: must stay 1.

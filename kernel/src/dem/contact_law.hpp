@@ -154,22 +154,46 @@ inline double tangential_energy(double kt, const double* const (&xi)[D], std::si
   return 0.5 * cap * cap / kt;
 }
 
-/// Rolling resistance torque on the second body (the first gets its
-/// opposite): magnitude μ_r R* |F_n| against the relative rolling angular
-/// velocity `rolling` (second relative to first, S components), capped at the
-/// torque that would stop the relative rolling within a step h with the pair's
-/// 1/I_1 + 1/I_2 = `inv_inertia` (h = 0: a probe, no cap).
+/// Rolling resistance torque on the second body of a contact (the first gets
+/// its opposite): a couple of at most μ_r R* |F_n| that holds the relative
+/// rolling w (second minus first; 3D: its part in the contact plane) at rest
+/// and resists it otherwise. The caller passes `held`, the relative rolling
+/// the contact would have after `hold` (> 0; the model's step) under its own
+/// tangential torques alone,
+///   held = w + hold (τ_t2/I_2 − τ_t1/I_1),
+/// and K = 1/I_1 + 1/I_2 (`inv_inertia`; a plane does not turn: 1/I = 0).
+/// The torque is the point of the ball |τ| ≤ μ_r R* |F_n| nearest the one
+/// that brings `held` to zero, −held/(hold K):
+///   |held|/(hold K) ≤ μ_r R* |F_n|: τ_r = −held/(hold K), which cancels the
+///     tangential torques' effect on w and stops w within the hold: a disk on
+///     a slope with tan θ ≤ μ_r, whose sticking contact carries m g sin θ and
+///     so a torque m g sin θ r, rests exactly (α = 0 up to round-off);
+///   otherwise τ_r = −μ_r R* |F_n| held/|held|: a constant couple against the
+///     rolling, as a rolling disk feels.
+/// (A couple against w alone, capped at −w/(hold K), balanced a steady
+/// tangential torque only while w was h τ_t/I: the particle crept.)
+/// Energy: with λ = min(1, μ_r R* |F_n| hold K/|held|) ∈ (0, 1],
+///   τ_r = λ (−w/(hold K)) + λ (−(τ_t2/I_2 − τ_t1/I_1)/K).
+/// The first part's power against the relative rolling, −λ|w|²/(hold K), is
+/// never positive; the second is the fraction λ of the couple that cancels the
+/// tangential torques' share of d w/dt: it takes back (at most all of) the
+/// rolling the tangential force would drive, and adds none of its own. After
+/// the hold, w⁺ = held + hold K τ_r is 0 or (1 − λ) held, so τ_r · w⁺ =
+/// −μ_r R* |F_n| |w⁺| ≤ 0: the implicit step of the set-valued law
+/// τ_r ∈ −μ_r R* |F_n| ∂|w| (tests/dem/rolling_hold_test.cpp books the
+/// energy). Every path calls this with the same hold (the model's dt): the
+/// step at each stage, the frozen kernels, the probes (h = 0 there is the
+/// spring's advance only).
 template <int S>
-inline void rolling_torque(double mu_r, double r_eff, double fn, const double (&rolling)[S], double inv_inertia,
-                           double h, double (&torque)[S]) {
+inline void rolling_torque(double mu_r, double r_eff, double fn, const double (&held)[S], double inv_inertia,
+                           double hold, double (&torque)[S]) {
   double w2 = 0;
-  for (int k = 0; k < S; ++k) w2 += rolling[k] * rolling[k];
+  for (int k = 0; k < S; ++k) w2 += held[k] * held[k];
   for (int k = 0; k < S; ++k) torque[k] = 0.0;
   if (!(w2 > 0)) return;
   const double speed = std::sqrt(w2);
-  double magnitude = mu_r * r_eff * std::fabs(fn);
-  if (h > 0) magnitude = std::min(magnitude, speed / (h * inv_inertia));
-  for (int k = 0; k < S; ++k) torque[k] = -magnitude * rolling[k] / speed;
+  const double magnitude = std::min(mu_r * r_eff * std::fabs(fn), speed / (hold * inv_inertia));
+  for (int k = 0; k < S; ++k) torque[k] = -magnitude * held[k] / speed;
 }
 
 }  // namespace xfdem::dem_detail

@@ -118,13 +118,14 @@ struct LawView {
   const double *hertz_inv_e, *hertz_inv_g, *plane_inv_e, *plane_inv_g;
   const std::array<double, D>* plane_normal;
   double friction, tangential_ratio, damping_ratio, hertz_damping, rolling_friction;
+  double hold;  ///< the rolling resistance's hold: the model's step (rolling_torque)
   explicit LawView(const DemModel<D>& m)
       : radius(m.radius.data()), mass(m.mass.data()), inv_mass(m.inv_mass.data()),
         inv_inertia(m.inv_inertia.data()), stiffness(m.stiffness.data()), plane_eta(m.plane_eta.data()),
         hertz_inv_e(m.hertz_inv_e.data()), hertz_inv_g(m.hertz_inv_g.data()), plane_inv_e(m.plane_inv_e.data()),
         plane_inv_g(m.plane_inv_g.data()), plane_normal(m.plane_normal.data()), friction(m.friction),
         tangential_ratio(m.tangential_ratio), damping_ratio(m.damping_ratio), hertz_damping(m.hertz_damping),
-        rolling_friction(m.rolling_friction) {}
+        rolling_friction(m.rolling_friction), hold(m.dt) {}
 };
 
 template <int D, class Kind>
@@ -181,15 +182,22 @@ template <int D, class Kind>
     r.torque_j[k] = -m.radius[j] * nf[k];
   }
   if constexpr (Kind::rolling) {
+    // The relative rolling ω_j − ω_i the pair would have after the hold under
+    // this contact's tangential torques alone, ω_j − ω_i + hold (τ_j/I_j −
+    // τ_i/I_i): the rolling torque stops it (rolling_torque), so that a
+    // particle whose sticking contact carries a tangential force can rest.
+    // Both particles turn under the couple: K = 1/I_i + 1/I_j.
+    const double hold = m.hold;
     double rolling[S], along = 0;
-    for (int k = 0; k < S; ++k) rolling[k] = wj[k] - wi[k];
-    if constexpr (D == 3) {  // rolling, not twisting: the part of ω_rel in the contact plane
+    for (int k = 0; k < S; ++k)
+      rolling[k] = wj[k] - wi[k] + hold * (r.torque_j[k] * m.inv_inertia[j] - r.torque_i[k] * m.inv_inertia[i]);
+    if constexpr (D == 3) {  // rolling, not twisting: the part in the contact plane
       for (int k = 0; k < S; ++k) along += rolling[k] * r.normal[k];
       for (int k = 0; k < S; ++k) rolling[k] -= along * r.normal[k];
     }
     double roll[S];
     rolling_torque<S>(m.rolling_friction, m.radius[i] * m.radius[j] / reach, r.fn, rolling,
-                      m.inv_inertia[i] + m.inv_inertia[j], h, roll);
+                      m.inv_inertia[i] + m.inv_inertia[j], hold, roll);
     for (int k = 0; k < S; ++k) {
       r.torque_j[k] += roll[k];
       r.torque_i[k] -= roll[k];
@@ -251,17 +259,15 @@ template <int D, class Kind>
   moment<D>(r.normal, r.ft, nf);
   for (int k = 0; k < S; ++k) r.torque_j[k] = -arm * nf[k];
   if constexpr (Kind::rolling) {
+    // −τ_t − (ω − Ω)/(hold (1/I + 1/I_wall)) below the cap (rolling_torque):
+    // the couple that cancels this contact's tangential torque and stops the
+    // relative rolling within `hold`, the wall turning back under it too (a
+    // plane: 1/I_wall = 0). hold 0: the model's step.
+    const double step = hold > 0 ? hold : m.hold;
     double rolling[S], along = 0;
     for (int k = 0; k < S; ++k) rolling[k] = wall_spin != nullptr ? wi[k] - wall_spin[k] : wi[k];
-    double step = h, inv_inertia = m.inv_inertia[i];
-    if (hold > 0) {
-      // −τ_t − (ω − Ω)/(hold (1/I + 1/I_wall)) below the cap: the couple that
-      // cancels this contact's tangential torque and stops the relative
-      // rolling within `hold`, the wall turning back under it too.
-      inv_inertia += wall_inv_inertia;
-      for (int k = 0; k < S; ++k) rolling[k] += hold * inv_inertia * r.torque_j[k];
-      step = hold;
-    }
+    const double inv_inertia = m.inv_inertia[i] + wall_inv_inertia;
+    for (int k = 0; k < S; ++k) rolling[k] += step * inv_inertia * r.torque_j[k];
     if constexpr (D == 3) {
       for (int k = 0; k < S; ++k) along += rolling[k] * r.normal[k];
       for (int k = 0; k < S; ++k) rolling[k] -= along * r.normal[k];

@@ -39,12 +39,11 @@ ContactResult<D> plane_contact(const DemModel<D>& m, std::int32_t i, std::size_t
 /// its spin (S components; nullptr: none), its hertz compliances (1 − ν²)/E
 /// and 2(2 − ν)(1 + ν)/E (0: rigid) and the particle's arm to the contact point
 /// (the plane's: its radius), for the contact point's velocity and the torque.
-/// `hold` > 0: the rolling resistance is the torque that stops the relative
-/// rolling within `hold` together with the contact's own tangential torque
-/// (capped at μ_r r |F_n| as always), so that a particle whose sticking
-/// contact needs a couple (a tilted normal under its weight) can rest; 0: the
-/// plane's law, the torque that stops it within the evaluation's h alone,
-/// which holds such a particle only while it rolls at h τ_t / I.
+/// The rolling resistance is the one law of the planes and pairs
+/// (rolling_torque): the torque that stops the relative rolling within `hold`
+/// together with the contact's own tangential torque (capped at μ_r r |F_n|
+/// as always), so that a particle whose sticking contact needs a couple (a
+/// tilted normal under its weight) can rest; `hold` 0: the model's dt.
 /// `inv_inertia`: the wall's 1/I for that torque (a plane's: 0), which turns
 /// back under it as a pair's second particle does.
 template <int D>
