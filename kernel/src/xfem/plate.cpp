@@ -2767,7 +2767,8 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
   state.energy.work += work;
   state.step += 1;
   state.time = t_next;
-  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !std::isfinite(state.energy.work))
+  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !all_finite(state.held_v) ||
+      !all_finite(state.held_a) || !std::isfinite(state.energy.work))
     s |= StepStatus::non_finite;
   if (energy_check_due(model.desc.energy_check, state.step)) {
     const double energy = plate_algorithmic_energy(model, state);
