@@ -377,7 +377,7 @@ TEST(Coupled2dFriction, AStuckDiskOnTheBentTopComesToRestWithEveryIntegrator) {
       double f[2];
       ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, 0, f));
       std::vector<double> positions(2 * w.model.boundary.vertices.size());
-      plate_boundary_positions(w.model.plate, w.model.boundary, w.state.plate.u.data(), positions.data());
+      plate_boundary_positions(w.model.plate, w.model.boundary, w.state.plate.u.data(), w.state.plate.time, positions.data());
       const double centre[2] = {w.state.dem.x[0][0], w.state.dem.x[1][0]};
       PlateBoundaryContact c[kPlateBoundaryMaxContacts];
       ASSERT_EQ(plate_boundary_contacts(w.model.boundary, positions.data(), centre, r, c), 1);
@@ -728,7 +728,7 @@ TEST(Coupled2dFriction, HertzAgainstAnInclusionTakesTheInclusionsMaterial) {
     double worst = 0, peak = 0;
     for (int step = 0; step < 400; ++step) {
       ASSERT_EQ(w.step(), StepStatus::ok) << step;
-      plate_boundary_positions(w.model.plate, w.model.boundary, w.state.plate.u.data(), positions.data());
+      plate_boundary_positions(w.model.plate, w.model.boundary, w.state.plate.u.data(), w.state.plate.time, positions.data());
       const double centre[2] = {w.state.dem.x[0][0], w.state.dem.x[1][0]};
       PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
       ASSERT_EQ(plate_boundary_contacts(w.model.boundary, positions.data(), centre, r, contacts), 1);

@@ -666,7 +666,7 @@ Coupled2dDesc disk_on_plate(DemIntegrator integrator, double dt, bool rocking) {
 double scene_energy(const Coupled2dWorld& w, std::vector<double>& positions) {
   const Coupled2dModel& m = w.model;
   const Coupled2dState& s = w.state;
-  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions.data());
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), s.plate.time, positions.data());
   double e = plate_algorithmic_energy(m.plate, s.plate);
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
     const double centre[2] = {s.dem.x[0][i], s.dem.x[1][i]};

@@ -59,7 +59,7 @@ void build(const PlateDesc& d, double radius, Built& b) {
   const BuildResult rb = plate_boundary_build(b.model, radius, 0.1, b.boundary);
   ASSERT_TRUE(rb.ok()) << rb.message;
   b.positions.assign(2 * b.boundary.vertices.size(), 0.0);
-  plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.positions.data());
+  plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.state.time, b.positions.data());
 }
 
 /// The 4 × 2 free plate with a vertical crack through it (x = 1.05).
@@ -184,7 +184,7 @@ TEST(PlateBoundary, AFreeCrackSplitsTheBoundaryIntoTwoLoopsAndItsMouthOpens) {
       const int dof = b.model.enriched_dof[static_cast<std::size_t>(2 * (2 * n + s))];
       if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-3;
     }
-  plate_boundary_positions(b.model, b.boundary, u.data(), b.positions.data());
+  plate_boundary_positions(b.model, b.boundary, u.data(), 0.0, b.positions.data());
   double worst = 0;
   int faces = 0;
   for (const PlateBoundarySegment& s : pb.segments) {
@@ -196,11 +196,11 @@ TEST(PlateBoundary, AFreeCrackSplitsTheBoundaryIntoTwoLoopsAndItsMouthOpens) {
       const auto k = static_cast<std::size_t>(v);
       const PlateBoundaryVertex& vx = pb.vertices[k];
       double du[2];
-      plate_material_point_field(b.model, vx.at, u.data(), true, du);
+      plate_material_point_field(b.model, vx.at, u.data(), true, 0.0, du);
       PlateMaterialPoint other = vx.at;
       other.side = 1;
       double dp[2];
-      plate_material_point_field(b.model, other, u.data(), true, dp);
+      plate_material_point_field(b.model, other, u.data(), true, 0.0, dp);
       worst = std::max(worst, std::fabs((dp[0] - du[0]) - 2e-3));
       EXPECT_EQ(b.positions[2 * k], vx.x[0] + du[0]);
     }
@@ -345,7 +345,7 @@ TEST(PlateBoundary, OneContactWithContinuousOverlapAcrossJoints) {
   }
   // Exactly over a flat joint (the sag removed): one vertex contact whose
   // normal is the surface's.
-  plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.positions.data());
+  plate_boundary_positions(b.model, b.boundary, b.state.u.data(), b.state.time, b.positions.data());
   const double c[2] = {1.0, 1.05};
   PlateBoundaryContact contacts[kPlateBoundaryMaxContacts];
   ASSERT_EQ(plate_boundary_contacts(b.boundary, b.positions.data(), c, radius, contacts), 1);
@@ -425,7 +425,7 @@ TEST(PlateBoundary, ADiskOverACracksMouthTouchesBothLipsContinuously) {
     const int dof = b.model.enriched_dof[static_cast<std::size_t>(2 * (2 * n) + 1)];
     if (dof >= 0) u[static_cast<std::size_t>(dof)] = 5e-4;  // the faces part by 1e-3 along y
   }
-  plate_boundary_positions(b.model, b.boundary, u.data(), b.positions.data());
+  plate_boundary_positions(b.model, b.boundary, u.data(), 0.0, b.positions.data());
   // The disk stays clear of the joints at x = 1 and 1.5 (the cut cell's
   // corners, where the lips' fields bend the edge: concave joints are not
   // smooth, above); the mouth is at x = 1.05.
@@ -591,8 +591,8 @@ TEST(PlateBoundary, NearATipEachFaceMovesWithItsOwnSide) {
     PlateMaterialPoint plus = v.at;
     plus.side = 1;
     double up[2], um[2];
-    plate_material_point_field(b.model, plus, u.data(), true, up);
-    plate_material_point_field(b.model, v.at, u.data(), true, um);
+    plate_material_point_field(b.model, plus, u.data(), true, 0.0, up);
+    plate_material_point_field(b.model, v.at, u.data(), true, 0.0, um);
     // The opening's normal is left of the polyline's direction (0, 1): (−1, 0).
     const double opening = plate_crack_opening(b.model, state, 0, v.x[0], v.x[1], 0);
     worst = std::max(worst, std::fabs(-(up[0] - um[0]) - opening));
@@ -630,8 +630,8 @@ TEST(PlateBoundary, AContactsForceDoesTheWorkOfItsPointsMotion) {
   std::vector<double> zero(dofs, 0.0), du(dofs);
   for (double& x : du) x = 1e-3 * uni(rng);
   std::vector<double> p0(2 * pb.vertices.size()), p1(p0.size());
-  plate_boundary_positions(m, pb, zero.data(), p0.data());
-  plate_boundary_positions(m, pb, du.data(), p1.data());
+  plate_boundary_positions(m, pb, zero.data(), 0.0, p0.data());
+  plate_boundary_positions(m, pb, du.data(), 0.0, p1.data());
   auto moved = [&](int vertex, int axis) {
     const auto k = static_cast<std::size_t>(2 * vertex + axis);
     return p1[k] - p0[k];

@@ -124,7 +124,7 @@ inline bool build_sweep_variant(SweepVariant& v, Coupled2dWorld& w) {
 inline double sweep_energy(const Coupled2dWorld& w, std::vector<double>& positions, bool& touching) {
   const Coupled2dModel& m = w.model;
   const Coupled2dState& s = w.state;
-  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions.data());
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), s.plate.time, positions.data());
   const DemEnergy d = dem_energy(m.dem, s.dem);
   double e = plate_algorithmic_energy(m.plate, s.plate) + d.kinetic + d.elastic + d.potential;
   touching = d.elastic > 0;

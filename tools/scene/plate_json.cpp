@@ -199,6 +199,19 @@ PlateDesc parse_plate(ObjectReader& c, double dt, const std::vector<double>& gra
         pr.at[k] = at[static_cast<std::size_t>(k)];
         pr.displacement[k] = u[static_cast<std::size_t>(k)];
       }
+      // An extension of the spec (docs/xfem2d.md, "Prescribed nodes with a
+      // time shape"): without "shape", the value from t = 0 as before.
+      const std::string shape = p.choice_or("shape", "step", {"step", "half_sine", "ramp"});
+      pr.shape = shape == "step"        ? PlatePrescribedShape::step
+                 : shape == "half_sine" ? PlatePrescribedShape::half_sine
+                                        : PlatePrescribedShape::ramp;
+      if (shape != "step") {
+        if (d.analysis == PlateDesc::Analysis::statics)
+          p.fail("shape", "a static analysis has no time; " + shape + " needs \"analysis\": \"dynamic\" (use step)");
+        pr.duration = p.real("duration", kPositive);
+      } else if (p.has("duration")) {
+        p.fail("duration", "not used by shape 'step'");
+      }
       p.finish();
       d.prescribed.push_back(pr);
     }

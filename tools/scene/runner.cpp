@@ -280,7 +280,7 @@ class Coupled2dSystem {
     const Coupled2dModel& m = run_.world().model;
     const Coupled2dState& s = run_.world().state;
     if (positions_step_ != s.step) {
-      plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions_.data());
+      plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), s.plate.time, positions_.data());
       positions_step_ = s.step;
     }
     const auto iu = static_cast<std::size_t>(i);

@@ -45,11 +45,18 @@ std::string escaped(const std::string& text) {
 // (the last node exactly at hi).
 double node_coord(double lo, double hi, int i, int nc) { return i == nc ? hi : lo + (hi - lo) * i / nc; }
 
-/// A nodal value of field f (held components: `held` for the displacement, 0 for the velocity).
-double nodal(const PlateModel& m, const std::vector<double>& f, bool displacement, int node, int c) {
+/// A nodal displacement (displacement) or velocity of the state (held
+/// components: their displacement at the state's time, and 0 for the
+/// velocity unless a prescribed shape moves them).
+double nodal(const PlateModel& m, const PlateState& s, bool displacement, int node, int c) {
   const auto k = static_cast<std::size_t>(2 * node + c);
   const int dof = m.node_dof[k];
-  return dof >= 0 ? f[static_cast<std::size_t>(dof)] : (displacement ? m.node_held[k] : 0.0);
+  if (dof >= 0) return (displacement ? s.u : s.v)[static_cast<std::size_t>(dof)];
+  const int h = m.node_moving.empty() ? -1 : m.node_moving[k];
+  if (h < 0) return displacement ? m.node_held[k] : 0.0;
+  const auto hh = static_cast<std::size_t>(h);
+  return displacement ? m.moving_amplitude[hh] * plate_prescribed_shape(m, m.moving_prescribed[hh], s.time)
+                      : s.held_v[hh];
 }
 
 const char* kHeader =
@@ -176,8 +183,8 @@ void for_each_plate_piece(const PlateModel& m, const PlateState& s, void (*visit
         piece.reference[a][0] = node_coord(d.min[0], d.max[0], ia, nx);
         piece.reference[a][1] = node_coord(d.min[1], d.max[1], ja, ny);
         for (int c = 0; c < 2; ++c) {
-          piece.u[a][c] = nodal(m, s.u, true, node, c);
-          piece.v[a][c] = nodal(m, s.v, false, node, c);
+          piece.u[a][c] = nodal(m, s, true, node, c);
+          piece.v[a][c] = nodal(m, s, false, node, c);
         }
       }
       const double xc = 0.5 * (piece.reference[0][0] + piece.reference[1][0]);

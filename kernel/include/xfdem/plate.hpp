@@ -50,11 +50,21 @@ struct PlateSupport {
   bool absorbing = false;
 };
 
+/// Time shape of a prescribed displacement d (dynamic analysis): step (d for
+/// t ≥ 0, the default: held at d from the start), half_sine (d · sin(π t /
+/// duration) for t ≤ duration, then 0), ramp (d · t / duration for t ≤
+/// duration, then d). A static analysis takes d (step only; the others are
+/// refused: it has no time).
+enum class PlatePrescribedShape : std::uint8_t { step, half_sine, ramp };
+
 /// Both components of the node at `at` (within 1e-9 of a cell of one) held at
-/// `displacement` for the whole run.
+/// `displacement` times the shape's value at t (docs/xfem2d.md, "Prescribed
+/// nodes with a time shape").
 struct PlatePrescribed {
   double at[2] = {0, 0};
   double displacement[2] = {0, 0};
+  PlatePrescribedShape shape = PlatePrescribedShape::step;
+  double duration = 0.0;  ///< s, half_sine and ramp only (0 otherwise)
 };
 
 /// An edge traction (Pa, consistent nodal forces: each edge segment gives each
@@ -170,8 +180,21 @@ struct PlateModel {
   /// standard functions are 0 in it: those are lumped in damper_coeff).
   std::vector<int> absorb_start, absorb_dof, absorb_matrix_start;
   std::vector<double> absorb_matrix;
-  /// −K_fh g: what the held displacements push on the unknowns (constant).
+  /// −K_fh g: what the constant held displacements push on the unknowns.
   std::vector<double> held_force;
+  /// Moving held components (a prescribed node whose shape is not step),
+  /// empty without them: node_moving[2n + c] is h (−1: not moving), the
+  /// natural component of h is moving_component[h], its prescribed entry
+  /// moving_prescribed[h] and its amplitude moving_amplitude[h] (m). Their
+  /// couplings, summed over the cells: with the unknowns, rows
+  /// moving_free_start[h] … moving_free_start[h + 1] of (moving_free_dof,
+  /// moving_free_k = K_fh, moving_free_m = M_fh); with the held components
+  /// (constant or moving), rows moving_held_start[h] … of
+  /// (moving_held_component (natural), moving_held_k, moving_held_m).
+  std::vector<int> node_moving, moving_component, moving_prescribed;
+  std::vector<double> moving_amplitude;
+  std::vector<int> moving_free_start, moving_free_dof, moving_held_start, moving_held_component;
+  std::vector<double> moving_free_k, moving_free_m, moving_held_k, moving_held_m;
   xfem::SymmetricBand mass;       ///< M on the unknowns
   xfem::SymmetricBand stiffness;  ///< K on the unknowns
   std::vector<double> mass_row_sums;  ///< M·1 (the net force 1ᵀMa the integrator sums)
@@ -266,6 +289,11 @@ struct PlateState {
   std::vector<double> u;  ///< unknowns: free nodal displacements, m
   std::vector<double> v;  ///< m/s
   std::vector<double> a;  ///< m/s²
+  /// Velocity and acceleration of the moving held components
+  /// (PlateModel::moving_component; empty without them): Newmark's own,
+  /// from their displacement d·g(t) (docs/xfem2d.md). Their displacement is
+  /// a function of `time`, not state.
+  std::vector<double> held_v, held_a;
   double time = 0.0;      ///< s, = step · dt
   std::int64_t step = 0;
   /// The energy balance check's books, in Ê = ½vᵀMv + ½uᵀKu (all nodes) +
@@ -288,6 +316,12 @@ struct PlateState {
     visitor("u", self.u.data(), self.u.size());
     visitor("v", self.v.data(), self.v.size());
     visitor("a", self.a.data(), self.a.size());
+    // Only with moving held components: every other scene's fields (and
+    // their snapshots and hashes) stay as they were.
+    if (!self.held_v.empty()) {
+      visitor("held_v", self.held_v.data(), self.held_v.size());
+      visitor("held_a", self.held_a.data(), self.held_a.size());
+    }
     visitor("time", &self.time, std::size_t{1});
     visitor("step", &self.step, std::size_t{1});
     visitor("energy_reference", &self.energy.reference, std::size_t{1});
@@ -305,6 +339,9 @@ struct PlateWorkspace {
   std::vector<double> load_u_start;                 ///< u at each load entry's unknown, at t_n
   std::vector<double> damper_u_start, damper_v_start;
   std::vector<double> absorb_u_start, absorb_v_start;  ///< u, v at absorb_dof, at t_n
+  /// Moving held components: the accelerations the next solve uses, and
+  /// the step's start (displacement, (Ma + Ku) on their rows) for the books.
+  std::vector<double> held_accel, held_u_start, held_force_start;
   /// Σ h[(1 − γ) 1ᵀMa_n + γ 1ᵀMa_{n+1}] of the last step (free unknowns).
   double last_external_impulse = 0.0;
   /// Unilateral faces: the active set being tried, the one `factor` holds,
@@ -361,6 +398,9 @@ StepStatus plate_start_acceleration(const PlateModel& model, PlateState& state, 
 
 /// The time shape of load `load` at t (1 for self weight, load index −1).
 double plate_load_shape(const PlateModel& model, int load, double t);
+/// The time shape of prescribed entry `prescribed` at t (its displacement is
+/// desc.prescribed[prescribed].displacement times it); step: 1 for t ≥ 0.
+double plate_prescribed_shape(const PlateModel& model, int prescribed, double t);
 
 /// Field values at a point of the domain (within 1e-9 of a cell of its edges;
 /// NaN outside), by the shape functions of the cell holding it (on a cell edge:
@@ -425,10 +465,12 @@ struct PlatePointBasis {
   int count = 0;
   double n[kPlateMaxPointFunctions] = {};
   int dof[kPlateMaxPointFunctions][2] = {};       ///< −1: held (or absent)
-  double held[kPlateMaxPointFunctions][2] = {};   ///< a held standard component's displacement, m
+  double held[kPlateMaxPointFunctions][2] = {};   ///< a held standard component's displacement at `time`, m
 };
-/// False for an unbuilt model or a cell out of range. No allocation.
-bool plate_point_basis(const PlateModel& model, int i, int j, double xi, double eta, int side, PlatePointBasis& out);
+/// False for an unbuilt model or a cell out of range. `time` (s): where a
+/// prescribed node moves, the held displacement is its value then. No allocation.
+bool plate_point_basis(const PlateModel& model, int i, int j, double xi, double eta, int side, PlatePointBasis& out,
+                       double time);
 
 /// y −= K x on the unknowns, cell by cell (each cell's element stiffness, in
 /// cell order, then the tied crack faces' penalties): the product the step

@@ -506,8 +506,12 @@ std::uint64_t model_fingerprint(const PlateModel& model) noexcept {
   for (const PlateSupport& s : d.supports)
     h = mix_u64(h, static_cast<std::uint64_t>(s.edge) | (s.fix[0] ? 16u : 0u) | (s.fix[1] ? 32u : 0u) |
                        (s.absorbing ? 64u : 0u));
-  for (const PlatePrescribed& p : d.prescribed)
+  for (const PlatePrescribed& p : d.prescribed) {
     for (double v : {p.at[0], p.at[1], p.displacement[0], p.displacement[1]}) h = mix_double(h, v);
+    // A time shape (step, the default, leaves earlier fingerprints unchanged).
+    if (p.shape != PlatePrescribedShape::step)
+      h = mix_double(mix_u64(h, 0x5000u | static_cast<std::uint64_t>(p.shape)), p.duration);
+  }
   for (const PlateLoad& l : d.loads) {
     h = mix_u64(h, static_cast<std::uint64_t>(l.kind) | (static_cast<std::uint64_t>(l.edge) << 4) |
                        (static_cast<std::uint64_t>(l.shape) << 8));

@@ -432,7 +432,7 @@ StepStatus window_pass(const Coupled2dModel& m, Coupled2dState& s, Coupled2dWork
   if (m.rotating) s.springs = w.springs_start;
   status |= plate_start_acceleration(m.plate, s.plate, w.plate);
   status |= without(plate_step(m.plate, s.plate, w.plate), StepStatus::energy_growth);
-  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.end_positions.data());
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), s.plate.time, w.end_positions.data());
   if (!plate_boundary_within_reach(m.boundary, w.end_positions.data())) status |= StepStatus::coupling_unstable;
   std::fill(w.impulse.begin(), w.impulse.end(), 0.0);
   impulse_taken[0] = impulse_taken[1] = 0.0;
@@ -817,7 +817,7 @@ StepStatus coupled2d_step(const Coupled2dModel& m, Coupled2dState& s, Coupled2dW
   dem_copy_state(w.dem_start, s.dem);
   w.plate_start = s.plate;
   if (m.rotating) w.springs_start = s.springs;
-  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), w.start_positions.data());
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), s.plate.time, w.start_positions.data());
   std::vector<double>& force = w.plate.external_force;
   force = s.coupling_force;  // the first pass: last window's force
   const auto dofs = force.size();
@@ -967,7 +967,7 @@ bool coupled2d_boundary_force(const Coupled2dModel& m, const Coupled2dState& s, 
 
 double coupled2d_boundary_energy(const Coupled2dModel& m, const Coupled2dState& s, double* positions) {
   if (!m.built) return 0.0;
-  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), positions);
+  plate_boundary_positions(m.plate, m.boundary, s.plate.u.data(), s.plate.time, positions);
   const bool hertz = m.dem.law == ContactLaw::hertz;
   // Linear friction: ½ k_t |ξ|² of the kept springs, each up to the Coulomb
   // cap of its contact's normal spring (tangential_energy), the contact the

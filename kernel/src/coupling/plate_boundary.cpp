@@ -353,7 +353,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
     const bool along_edge = s.xi[0] == s.xi[1] || s.eta[0] == s.eta[1];
     s.linear = along_edge &&
                plate_point_basis(m, s.cell[0], s.cell[1], 0.5 * (s.xi[0] + s.xi[1]), 0.5 * (s.eta[0] + s.eta[1]),
-                                 s.side, basis) &&
+                                 s.side, basis, 0.0) &&  // the basis's count only: no held value read
                basis.count == 4;
   }
   // Bins: the domain grown by the reach, bins at least a reach wide.
@@ -390,10 +390,10 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
 }
 
 void plate_material_point_field(const PlateModel& m, const PlateMaterialPoint& at, const double* field,
-                                bool displacement, double out[2]) {
+                                bool displacement, double time, double out[2]) {
   PlatePointBasis basis;
   out[0] = out[1] = 0.0;
-  if (!plate_point_basis(m, at.cell[0], at.cell[1], at.xi, at.eta, at.side, basis)) return;
+  if (!plate_point_basis(m, at.cell[0], at.cell[1], at.xi, at.eta, at.side, basis, time)) return;
   for (int f = 0; f < basis.count; ++f)
     for (int c = 0; c < 2; ++c) {
       const int dof = basis.dof[f][c];
@@ -401,11 +401,12 @@ void plate_material_point_field(const PlateModel& m, const PlateMaterialPoint& a
     }
 }
 
-void plate_boundary_positions(const PlateModel& m, const PlateBoundary& b, const double* u, double* positions) {
+void plate_boundary_positions(const PlateModel& m, const PlateBoundary& b, const double* u, double time,
+                              double* positions) {
   const std::size_t nv = b.vertices.size();
   for (std::size_t k = 0; k < nv; ++k) {
     double d[2];
-    plate_material_point_field(m, b.vertices[k].at, u, true, d);
+    plate_material_point_field(m, b.vertices[k].at, u, true, time, d);
     positions[2 * k] = b.vertices[k].x[0] + d[0];
     positions[2 * k + 1] = b.vertices[k].x[1] + d[1];
   }
@@ -623,7 +624,8 @@ int plate_boundary_material_points(const PlateBoundary& b, const PlateBoundaryCo
 
 void plate_spread_force(const PlateModel& m, const PlateMaterialPoint& at, const double force[2], double* f) {
   PlatePointBasis basis;
-  if (!plate_point_basis(m, at.cell[0], at.cell[1], at.xi, at.eta, at.side, basis)) return;
+  // Shares on held components go nowhere: their displacement is not read.
+  if (!plate_point_basis(m, at.cell[0], at.cell[1], at.xi, at.eta, at.side, basis, 0.0)) return;
   for (int q = 0; q < basis.count; ++q)
     for (int c = 0; c < 2; ++c)
       if (basis.dof[q][c] >= 0) f[basis.dof[q][c]] += basis.n[q] * force[c];

@@ -8,6 +8,7 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 
 namespace xfdem {
@@ -363,7 +364,8 @@ struct CellView {
   int branch[kMaxCellFunctions] = {};      ///< branch function: which of the four
   double branch_at_node[kMaxCellFunctions] = {};  ///< F_i(x_a), the shift
   int dof[kMaxCellFunctions][2] = {};       ///< unknown of (f, c), −1: held or absent
-  double held[kMaxCellFunctions][2] = {};   ///< displacement of a held standard component
+  double held[kMaxCellFunctions][2] = {};   ///< displacement of a held standard component (at make_view's time)
+  double held_rate[2][kMaxCellFunctions][2] = {};  ///< its velocity [0] and acceleration [1] (moving ones; else 0)
   double phi[5] = {};        ///< the cutting discontinuity's level set at the nodes and the centre (mean)
   double x0[2] = {}, x1[2] = {};  ///< the cell's lower-left and upper-right corners, m
   bool plain = true;  ///< standard functions only, the plate's material, uncut (the fixed element matrices apply)
@@ -404,7 +406,26 @@ bool tip_touches(const PlateModel& m, const PlateModel::Tip& t, const double lo[
          t.origin[1] <= hi[1] + tol;
 }
 
-void make_view(const PlateModel& m, int i, int j, CellView& v) {
+/// Which field a coefficient is read from.
+enum class Field : std::uint8_t { displacement, velocity, acceleration };
+
+/// The displacement of moving held component h at t (its amplitude times its shape there).
+inline double moving_displacement(const PlateModel& m, std::size_t h, double t) {
+  return m.moving_amplitude[h] * plate_prescribed_shape(m, m.moving_prescribed[h], t);
+}
+
+/// The displacement of held natural component k at t.
+inline double held_displacement(const PlateModel& m, std::size_t k, double t) {
+  if (!m.node_moving.empty()) {
+    const int h = m.node_moving[k];
+    if (h >= 0) return moving_displacement(m, static_cast<std::size_t>(h), t);
+  }
+  return m.node_held[k];
+}
+
+/// The cell's functions and unknowns; held displacements at `time`, and with
+/// `rates` the moving held components' velocity and acceleration from it.
+void make_view(const PlateModel& m, int i, int j, CellView& v, double time = 0.0, const PlateState* rates = nullptr) {
   const int nx = m.desc.cells[0];
   v.i = i, v.j = j, v.cell = j * nx + i;
   cell_nodes(nx, i, j, v.en);
@@ -425,7 +446,10 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
     for (int c = 0; c < 2; ++c) {
       const auto k = static_cast<std::size_t>(2 * v.en[a] + c);
       v.dof[f][c] = m.node_dof[k];
-      v.held[f][c] = m.node_held[k];
+      v.held[f][c] = held_displacement(m, k, time);
+      const int h = m.node_moving.empty() ? -1 : m.node_moving[k];
+      v.held_rate[0][f][c] = h >= 0 && rates != nullptr ? rates->held_v[static_cast<std::size_t>(h)] : 0.0;
+      v.held_rate[1][f][c] = h >= 0 && rates != nullptr ? rates->held_a[static_cast<std::size_t>(h)] : 0.0;
     }
   }
   if (any)
@@ -438,6 +462,7 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
         for (int c = 0; c < 2; ++c) {
           v.dof[f][c] = m.enriched_dof[static_cast<std::size_t>(2 * (2 * v.en[a] + s) + c)];
           v.held[f][c] = 0.0;
+          v.held_rate[0][f][c] = v.held_rate[1][f][c] = 0.0;
         }
       }
   if (!m.tips.empty()) {
@@ -455,6 +480,7 @@ void make_view(const PlateModel& m, int i, int j, CellView& v) {
         for (int c = 0; c < 2; ++c) {
           v.dof[f][c] = m.tip_dof[static_cast<std::size_t>(8 * v.en[a] + 2 * b + c)];
           v.held[f][c] = 0.0;
+          v.held_rate[0][f][c] = v.held_rate[1][f][c] = 0.0;
         }
       }
       const PlateModel::Tip& tip = m.tips[static_cast<std::size_t>(t)];
@@ -1206,6 +1232,63 @@ inline void subtract_absorb_product(const PlateModel& m, const double* x, double
   }
 }
 
+/// y −= K_fh g(t) + M_fh a_h: what the moving held components push on the
+/// unknowns (held_a: their accelerations).
+inline void subtract_moving_push(const PlateModel& m, double t, const double* held_a, double* y) {
+  const std::size_t moving = m.moving_component.size();
+  for (std::size_t h = 0; h < moving; ++h) {
+    const double g = moving_displacement(m, h, t), a = held_a[h];
+    for (int e = m.moving_free_start[h]; e < m.moving_free_start[h + 1]; ++e) {
+      const auto k = static_cast<std::size_t>(e);
+      y[m.moving_free_dof[k]] -= m.moving_free_k[k] * g + m.moving_free_m[k] * a;
+    }
+  }
+}
+
+/// (M a + K u) on moving held component h's row of the whole plate (u, a the
+/// unknowns, the held displacements at t, held_a the moving ones'
+/// accelerations): the force the plate needs there, its support's reaction
+/// plus the loads it takes.
+inline double moving_row(const PlateModel& m, std::size_t h, const double* u, const double* a, double t,
+                         const double* held_a) {
+  double r = 0.0;
+  for (int e = m.moving_free_start[h]; e < m.moving_free_start[h + 1]; ++e) {
+    const auto k = static_cast<std::size_t>(e);
+    const auto dof = static_cast<std::size_t>(m.moving_free_dof[k]);
+    r += m.moving_free_k[k] * u[dof] + m.moving_free_m[k] * a[dof];
+  }
+  for (int e = m.moving_held_start[h]; e < m.moving_held_start[h + 1]; ++e) {
+    const auto k = static_cast<std::size_t>(e);
+    const auto comp = static_cast<std::size_t>(m.moving_held_component[k]);
+    const int other = m.node_moving[comp];
+    r += m.moving_held_k[k] * held_displacement(m, comp, t) +
+         (other >= 0 ? m.moving_held_m[k] * held_a[static_cast<std::size_t>(other)] : 0.0);
+  }
+  return r;
+}
+
+/// The moving held components' part of the whole plate's xᵀMx (x the
+/// unknowns' values, xh the moving components'): 2 x_hᵀM_hf x_f + x_hᵀM_hh x_h
+/// (the constant held components' rates are 0).
+inline double moving_mass_quadratic(const PlateModel& m, const double* x, const double* xh) {
+  double q = 0.0;
+  const std::size_t moving = m.moving_component.size();
+  for (std::size_t h = 0; h < moving; ++h) {
+    double row = 0.0;
+    for (int e = m.moving_free_start[h]; e < m.moving_free_start[h + 1]; ++e) {
+      const auto k = static_cast<std::size_t>(e);
+      row += 2.0 * m.moving_free_m[k] * x[m.moving_free_dof[k]];
+    }
+    for (int e = m.moving_held_start[h]; e < m.moving_held_start[h + 1]; ++e) {
+      const auto k = static_cast<std::size_t>(e);
+      const int other = m.node_moving[static_cast<std::size_t>(m.moving_held_component[k])];
+      if (other >= 0) row += m.moving_held_m[k] * xh[static_cast<std::size_t>(other)];
+    }
+    q += xh[h] * row;
+  }
+  return q;
+}
+
 class PlateOperator {
  public:
   PlateOperator(const PlateModel& model, PlateWorkspace& workspace, const char* held = nullptr)
@@ -1232,6 +1315,10 @@ class PlateOperator {
     for (std::size_t e = 0; e < entries; ++e) base[m_.load_dof[e]] += m_.load_value[e] * shape[m_.load_of[e] + 1];
     if (!ws_.external_force.empty())
       for (int i = 0; i < n; ++i) base[i] += ws_.external_force[static_cast<std::size_t>(i)];
+    // The held components eliminated: the moving ones push −K_fh g(t) − M_fh a_h
+    // (consistent mass couples them), a_h the accelerations the caller put
+    // in the workspace (the step's, from Newmark's own update, or the state's).
+    if (!m_.moving_component.empty()) subtract_moving_push(m_, t, ws_.held_accel.data(), base);
     plate_subtract_stiffness_product(m_, x, base);
     for (std::size_t d = 0; d < m_.damper_dof.size(); ++d) base[m_.damper_dof[d]] -= m_.damper_coeff[d] * v[m_.damper_dof[d]];
     subtract_absorb_product(m_, v, base);
@@ -1456,6 +1543,39 @@ BuildResult validate_plate(const PlateDesc& d) {
       if (!std::isfinite(d.prescribed[p].displacement[c]))
         return BuildResult::failure(Code::invalid_argument, "prescribed.%zu.displacement: must be finite", p);
     }
+  for (std::size_t p = 0; p < d.prescribed.size(); ++p) {
+    const PlatePrescribed& pr = d.prescribed[p];
+    switch (pr.shape) {
+      case PlatePrescribedShape::step:
+        if (pr.duration != 0.0)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "prescribed.%zu.duration: only a half_sine or ramp shape has a duration; must be "
+                                      "0, got %g",
+                                      p, pr.duration);
+        break;
+      case PlatePrescribedShape::half_sine:
+      case PlatePrescribedShape::ramp:
+        if (!dynamic)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "prescribed.%zu.shape: a static analysis has no time; %s needs analysis dynamic "
+                                      "(use step)",
+                                      p, pr.shape == PlatePrescribedShape::ramp ? "ramp" : "half_sine");
+        if (!positive_finite(pr.duration))
+          return BuildResult::failure(Code::invalid_argument,
+                                      "prescribed.%zu.duration: must be positive and finite (s), got %g", p, pr.duration);
+        // The energy rule of unilateral faces redoes a step from its start
+        // and compares energies that leave the moving nodes out.
+        for (const PlateDiscontinuity& q : d.discontinuities)
+          if (q.kind == PlateDiscontinuity::Kind::crack && q.faces == PlateDiscontinuity::Faces::unilateral)
+            return BuildResult::failure(Code::invalid_argument,
+                                        "prescribed.%zu.shape: a moving prescribed node is not supported with "
+                                        "unilateral crack faces (use step)",
+                                        p);
+        break;
+      default:
+        return BuildResult::failure(Code::invalid_argument, "prescribed.%zu.shape: must be step, half_sine or ramp", p);
+    }
+  }
   for (std::size_t l = 0; l < d.loads.size(); ++l) {
     const PlateLoad& ld = d.loads[l];
     const char* what = ld.kind == PlateLoad::Kind::edge_traction ? "traction" : "force";
@@ -1807,12 +1927,36 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                                     "prescribed.%zu.displacement: the node at (%g, %g) is already prescribed by "
                                     "prescribed.%d with another value",
                                     p, pr.at[0], pr.at[1], held_by[k]);
+      if (held[k] == 2 && pr.displacement[c] != 0.0) {
+        const PlatePrescribed& first = d.prescribed[static_cast<std::size_t>(held_by[k])];
+        if (first.shape != pr.shape || first.duration != pr.duration)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "prescribed.%zu.shape: the node at (%g, %g) is already prescribed by "
+                                      "prescribed.%d with another shape or duration",
+                                      p, pr.at[0], pr.at[1], held_by[k]);
+      }
       if (held[k] == 0) {
         held[k] = 2;
         held_by[k] = static_cast<int>(p);
         model.node_held[k] = pr.displacement[c];
       }
     }
+  }
+  // Components that move: prescribed with a shape other than step and a
+  // nonzero amplitude (node_held keeps the amplitude d; the displacement at
+  // t is d times the shape there).
+  model.node_moving.clear();
+  model.moving_component.clear();
+  model.moving_prescribed.clear();
+  model.moving_amplitude.clear();
+  for (std::size_t k = 0; k < n2; ++k) {
+    if (held[k] != 2 || model.node_held[k] == 0.0) continue;
+    if (d.prescribed[static_cast<std::size_t>(held_by[k])].shape == PlatePrescribedShape::step) continue;
+    if (model.node_moving.empty()) model.node_moving.assign(n2, -1);
+    model.node_moving[k] = static_cast<int>(model.moving_component.size());
+    model.moving_component.push_back(static_cast<int>(k));
+    model.moving_prescribed.push_back(held_by[k]);
+    model.moving_amplitude.push_back(model.node_held[k]);
   }
 
   // A node whose support holds no material (wholly in a hole) has no unknowns.
@@ -1909,6 +2053,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   constexpr int kMaxCellDofs = 2 * kMaxCellFunctions;
   using MatE = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCellDofs, kMaxCellDofs>;
   MatE ke_general, me_general;
+  // (moving component, unknown or natural held component) → (K, M) entries.
+  std::map<std::pair<int, int>, std::array<double, 2>> moving_free, moving_held;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       make_view(model, i, j, view);
@@ -1979,10 +2125,33 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         }
         for (int b = 0; b < nf; ++b)
           if (view.dof[b / 2][b % 2] < 0) {
+            // A moving component's push depends on t: the step adds it (moving_free_*).
+            if (b < 8 && !model.node_moving.empty() &&
+                model.node_moving[static_cast<std::size_t>(2 * view.en[b / 2] + b % 2)] >= 0)
+              continue;
             const double g = view.held[b / 2][b % 2];
             if (g != 0.0) model.held_force[static_cast<std::size_t>(ra)] -= ke[a * stride + b] * g;
           }
       }
+      // The moving components' rows of K and M (the standard functions come
+      // first, make_view), summed over the cells in cell order.
+      if (!model.node_moving.empty())
+        for (int a = 0; a < 8; ++a) {
+          if (view.dof[a / 2][a % 2] >= 0) continue;
+          const int h = model.node_moving[static_cast<std::size_t>(2 * view.en[a / 2] + a % 2)];
+          if (h < 0) continue;
+          for (int b = 0; b < nf; ++b) {
+            const int rb = view.dof[b / 2][b % 2];
+            const double kv = ke[a * stride + b], mv = me[a * stride + b];
+            if (rb >= 0) {
+              auto& e = moving_free[{h, rb}];
+              e[0] += kv, e[1] += mv;
+            } else if (b < 8) {
+              auto& e = moving_held[{h, 2 * view.en[b / 2] + b % 2}];
+              e[0] += kv, e[1] += mv;
+            }
+          }
+        }
       // The element stiffness again, for the step's cell-by-cell K x.
       if (view.plain) {
         for (int a = 0; a < 8; ++a) model.plain_cell_dof.push_back(view.dof[a / 2][a % 2]);
@@ -2002,6 +2171,29 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
           model.node_mass[static_cast<std::size_t>(view.en[a])] += sum;
         }
     }
+  {
+    const std::size_t moving = model.moving_component.size();
+    model.moving_free_start.assign(moving == 0 ? 0 : moving + 1, 0);
+    model.moving_held_start.assign(moving == 0 ? 0 : moving + 1, 0);
+    model.moving_free_dof.clear(), model.moving_free_k.clear(), model.moving_free_m.clear();
+    model.moving_held_component.clear(), model.moving_held_k.clear(), model.moving_held_m.clear();
+    for (const auto& [key, km] : moving_free) {  // ordered by (h, unknown)
+      model.moving_free_dof.push_back(key.second);
+      model.moving_free_k.push_back(km[0]);
+      model.moving_free_m.push_back(km[1]);
+      ++model.moving_free_start[static_cast<std::size_t>(key.first) + 1];
+    }
+    for (const auto& [key, km] : moving_held) {
+      model.moving_held_component.push_back(key.second);
+      model.moving_held_k.push_back(km[0]);
+      model.moving_held_m.push_back(km[1]);
+      ++model.moving_held_start[static_cast<std::size_t>(key.first) + 1];
+    }
+    for (std::size_t h = 0; h < moving; ++h) {
+      model.moving_free_start[h + 1] += model.moving_free_start[h];
+      model.moving_held_start[h + 1] += model.moving_held_start[h];
+    }
+  }
 
   // ---- tied or unilateral crack faces: penalty k [u]·[u] on the crack ---------
   if (ndisc > 0) {
@@ -2357,6 +2549,13 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
   state.u.assign(nds, 0.0);
   state.v.assign(nds, 0.0);
   state.a.assign(nds, 0.0);
+  // The moving held components start at rest (their shape's value at 0 is
+  // 0); a jump of the shape's rate there is Newmark's to take, as at its kinks.
+  state.held_v.assign(model.moving_component.size(), 0.0);
+  state.held_a.assign(model.moving_component.size(), 0.0);
+  workspace.held_accel.assign(model.moving_component.size(), 0.0);
+  workspace.held_u_start.assign(model.moving_component.size(), 0.0);
+  workspace.held_force_start.assign(model.moving_component.size(), 0.0);
 
   if (d.analysis == PlateDesc::Analysis::statics) {
     // K u = f with every load at its amplitude (shape step: 1; none: 0), by
@@ -2564,8 +2763,23 @@ double plate_load_shape(const PlateModel& m, int load, double t) {
   return 0.0;
 }
 
+double plate_prescribed_shape(const PlateModel& m, int prescribed, double t) {
+  const PlatePrescribed& p = m.desc.prescribed[static_cast<std::size_t>(prescribed)];
+  switch (p.shape) {
+    case PlatePrescribedShape::half_sine:
+      return (t >= 0.0 && t <= p.duration) ? std::sin(std::numbers::pi * t / p.duration) : 0.0;
+    case PlatePrescribedShape::ramp:
+      return t <= 0.0 ? 0.0 : t < p.duration ? t / p.duration : 1.0;
+    case PlatePrescribedShape::step:
+      break;
+  }
+  return t >= 0.0 ? 1.0 : 0.0;
+}
+
 StepStatus plate_initial_acceleration(const PlateModel& model, PlateState& state, PlateWorkspace& workspace) {
   if (!model.built || model.desc.analysis != PlateDesc::Analysis::dynamic) return StepStatus::not_built;
+  // The moving held components' accelerations are the state's (same sizes: no allocation).
+  std::copy(state.held_a.begin(), state.held_a.end(), workspace.held_accel.begin());
   const detail::PlateOperator op(model, workspace);
   op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
   const double e = plate_algorithmic_energy(model, state);
@@ -2578,6 +2792,7 @@ StepStatus plate_initial_acceleration(const PlateModel& model, PlateState& state
 
 StepStatus plate_start_acceleration(const PlateModel& model, PlateState& state, PlateWorkspace& workspace) {
   if (!model.built || model.desc.analysis != PlateDesc::Analysis::dynamic) return StepStatus::not_built;
+  std::copy(state.held_a.begin(), state.held_a.end(), workspace.held_accel.begin());
   const detail::PlateOperator op(model, workspace);
   return op.implicit_solve(0.0, 0.0, state.time, state.u.data(), state.v.data(), state.a.data());
 }
@@ -2660,6 +2875,23 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
   for (std::size_t k = 0; k < model.absorb_dof.size(); ++k) {
     ws.absorb_u_start[k] = state.u[static_cast<std::size_t>(model.absorb_dof[k])];
     ws.absorb_v_start[k] = state.v[static_cast<std::size_t>(model.absorb_dof[k])];
+  }
+  // Moving held components: u_{n+1} = d g(t_{n+1}) is given, and Newmark's own
+  // update gives the acceleration that reaches it from the predictor,
+  // a_{n+1} = (u_{n+1} − ũ)/(βΔt²), and then v_{n+1} = ṽ + γΔt a_{n+1}: the
+  // whole plate (held rows included) is one Newmark trajectory, so the
+  // scheme's energy identity holds with their work booked below, and a kink
+  // of g is an impulse Newmark delivers (docs/xfem2d.md).
+  const std::size_t moving = model.moving_component.size();
+  const double fac0 = model.scheme.fac0();
+  for (std::size_t h = 0; h < moving; ++h) {
+    const double dt = model.scheme.dt;
+    const double u_n = moving_displacement(model, h, t_n);
+    const double predicted = u_n + dt * state.held_v[h] + (0.5 - model.scheme.beta) * dt * dt * state.held_a[h];
+    ws.held_u_start[h] = u_n;
+    ws.held_force_start[h] =
+        detail::moving_row(model, h, state.u.data(), state.a.data(), t_n, state.held_a.data());
+    ws.held_accel[h] = (moving_displacement(model, h, t_next) - predicted) / fac0;
   }
   const bool rule = model.unilateral_points > 0;
   double energy_start = 0.0;
@@ -2746,11 +2978,26 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
       work = step_work();
     }
   }
+  if (moving > 0) {
+    const double dt = model.scheme.dt;
+    for (std::size_t h = 0; h < moving; ++h) {
+      state.held_v[h] += dt * ((1.0 - g) * state.held_a[h] + g * ws.held_accel[h]);
+      state.held_a[h] = ws.held_accel[h];
+    }
+    // The moving nodes' work, Δu_h (M a + K u)_h with the scheme's weights:
+    // what their supports and the loads on them put in.
+    for (std::size_t h = 0; h < moving; ++h) {
+      const double end = detail::moving_row(model, h, state.u.data(), state.a.data(), t_next, state.held_a.data());
+      work += (moving_displacement(model, h, t_next) - ws.held_u_start[h]) *
+              ((1.0 - g) * ws.held_force_start[h] + g * end);
+    }
+  }
   ws.last_external_impulse = model.scheme.dt * ((1.0 - g) * net_force[0] + g * net_force[1]);
   state.energy.work += work;
   state.step += 1;
   state.time = t_next;
-  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !std::isfinite(state.energy.work))
+  if (!all_finite(state.u) || !all_finite(state.v) || !all_finite(state.a) || !all_finite(state.held_v) ||
+      !all_finite(state.held_a) || !std::isfinite(state.energy.work))
     s |= StepStatus::non_finite;
   if (energy_check_due(model.desc.energy_check, state.step)) {
     const double energy = plate_algorithmic_energy(model, state);
@@ -2764,12 +3011,21 @@ StepStatus plate_step(const PlateModel& model, PlateState& state, PlateWorkspace
 
 namespace {
 
-/// The value of component c of natural node n in field f (held nodes: `held`
-/// for displacements, 0 for rates).
-inline double nodal(const PlateModel& m, const double* f, bool displacement, int n, int c) {
+/// The state's array of a field.
+inline const double* field_of(const PlateState& s, Field f) {
+  return f == Field::displacement ? s.u.data() : f == Field::velocity ? s.v.data() : s.a.data();
+}
+
+/// The value of component c of natural node n in field f of the state (held
+/// nodes: their displacement at the state's time; rates 0 unless moving).
+inline double nodal(const PlateModel& m, const PlateState& s, Field f, int n, int c) {
   const auto k = static_cast<std::size_t>(2 * n + c);
   const int dof = m.node_dof[k];
-  return dof >= 0 ? f[dof] : (displacement ? m.node_held[k] : 0.0);
+  if (dof >= 0) return field_of(s, f)[dof];
+  if (f == Field::displacement) return held_displacement(m, k, s.time);
+  const int h = m.node_moving.empty() ? -1 : m.node_moving[k];
+  if (h < 0) return 0.0;
+  return (f == Field::velocity ? s.held_v : s.held_a)[static_cast<std::size_t>(h)];
 }
 
 /// The cell (i, j) holding (x, y) and the parent coordinates there; false for
@@ -2780,13 +3036,15 @@ bool locate(const PlateModel& m, double x, double y, int& i, int& j, double& xi,
          locate_axis(d.min[1], d.max[1], d.cells[1], y, j, eta);
 }
 
-/// The value of function f's component c in field u (held: its displacement, or 0 for rates).
-inline double coefficient(const CellView& v, const double* u, bool displacement, int f, int c) {
+/// The value of function f's component c in field `which` (u: that array; held:
+/// the view's held displacement or rate).
+inline double coefficient(const CellView& v, const double* u, Field which, int f, int c) {
   const int dof = v.dof[f][c];
-  return dof >= 0 ? u[dof] : (displacement ? v.held[f][c] : 0.0);
+  if (dof >= 0) return u[dof];
+  return which == Field::displacement ? v.held[f][c] : v.held_rate[which == Field::velocity ? 0 : 1][f][c];
 }
 
-double field_at(const PlateModel& m, const std::vector<double>& f, bool displacement, double x, double y, int c) {
+double field_at(const PlateModel& m, const PlateState& st, Field which, double x, double y, int c) {
   const PlateDesc& d = m.desc;
   int i = 0, j = 0;
   double xi = 0.0, eta = 0.0;
@@ -2796,17 +3054,17 @@ double field_at(const PlateModel& m, const std::vector<double>& f, bool displace
     cell_nodes(d.cells[0], i, j, en);
     double s = 0.0;
     for (int a = 0; a < 4; ++a)
-      s += 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]) * nodal(m, f.data(), displacement, en[a], c);
+      s += 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]) * nodal(m, st, which, en[a], c);
     return s;
   }
   CellView v;
-  make_view(m, i, j, v);
+  make_view(m, i, j, v, st.time, &st);
   const int side = material_side(m, v, xi, eta);
   if (material_of(m, v, side) < 0) return std::numeric_limits<double>::quiet_NaN();
   BasisAt basis;
   evaluate(m, v, xi, eta, triangle_of(xi, eta), side, basis);
   double s = 0.0;
-  for (int fn = 0; fn < v.count; ++fn) s += basis.n[fn] * coefficient(v, f.data(), displacement, fn, c);
+  for (int fn = 0; fn < v.count; ++fn) s += basis.n[fn] * coefficient(v, field_of(st, which), which, fn, c);
   return s;
 }
 
@@ -2814,7 +3072,7 @@ double field_at(const PlateModel& m, const std::vector<double>& f, bool displace
 void strain_of(const CellView& v, const BasisAt& basis, const double* u, double eps[3]) {
   eps[0] = eps[1] = eps[2] = 0.0;
   for (int f = 0; f < v.count; ++f) {
-    const double ux = coefficient(v, u, true, f, 0), uy = coefficient(v, u, true, f, 1);
+    const double ux = coefficient(v, u, Field::displacement, f, 0), uy = coefficient(v, u, Field::displacement, f, 1);
     eps[0] += basis.dx[f] * ux;
     eps[1] += basis.dy[f] * uy;
     eps[2] += basis.dy[f] * ux + basis.dx[f] * uy;
@@ -2822,14 +3080,14 @@ void strain_of(const CellView& v, const BasisAt& basis, const double* u, double 
 }
 
 /// ε = (ε_xx, ε_yy, γ_xy) at parent point (xi, eta) of cell (i, j).
-void strain_at(const PlateModel& m, const double* u, int i, int j, double xi, double eta, double eps[3]) {
+void strain_at(const PlateModel& m, const PlateState& s, int i, int j, double xi, double eta, double eps[3]) {
   int en[4];
   cell_nodes(m.desc.cells[0], i, j, en);
   eps[0] = eps[1] = eps[2] = 0.0;
   for (int a = 0; a < 4; ++a) {
     const double dx = 0.25 * kXi[a] * (1.0 + eta * kEta[a]) * (2.0 / m.cell_size[0]);
     const double dy = 0.25 * kEta[a] * (1.0 + xi * kXi[a]) * (2.0 / m.cell_size[1]);
-    const double ux = nodal(m, u, true, en[a], 0), uy = nodal(m, u, true, en[a], 1);
+    const double ux = nodal(m, s, Field::displacement, en[a], 0), uy = nodal(m, s, Field::displacement, en[a], 1);
     eps[0] += dx * ux;
     eps[1] += dy * uy;
     eps[2] += dy * ux + dx * uy;
@@ -2839,13 +3097,13 @@ void strain_at(const PlateModel& m, const double* u, int i, int j, double xi, do
 }  // namespace
 
 double plate_displacement(const PlateModel& m, const PlateState& s, double x, double y, int c) {
-  return field_at(m, s.u, true, x, y, c);
+  return field_at(m, s, Field::displacement, x, y, c);
 }
 double plate_velocity(const PlateModel& m, const PlateState& s, double x, double y, int c) {
-  return field_at(m, s.v, false, x, y, c);
+  return field_at(m, s, Field::velocity, x, y, c);
 }
 double plate_acceleration(const PlateModel& m, const PlateState& s, double x, double y, int c) {
-  return field_at(m, s.a, false, x, y, c);
+  return field_at(m, s, Field::acceleration, x, y, c);
 }
 
 double plate_stress(const PlateModel& m, const PlateState& s, double x, double y, int component) {
@@ -2854,12 +3112,12 @@ double plate_stress(const PlateModel& m, const PlateState& s, double x, double y
   if (component < 0 || component > 2 || !locate(m, x, y, i, j, xi, eta)) return std::numeric_limits<double>::quiet_NaN();
   double eps[3];
   if (m.node_phi.empty()) {
-    strain_at(m, s.u.data(), i, j, xi, eta, eps);
+    strain_at(m, s, i, j, xi, eta, eps);
     const double(&dm)[3][3] = m.elasticity;
     return dm[component][0] * eps[0] + dm[component][1] * eps[1] + dm[component][2] * eps[2];
   }
   CellView v;
-  make_view(m, i, j, v);
+  make_view(m, i, j, v, s.time, &s);
   const int side = material_side(m, v, xi, eta);
   const int material = material_of(m, v, side);
   if (material < 0) return std::numeric_limits<double>::quiet_NaN();
@@ -2881,13 +3139,13 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
     return std::numeric_limits<double>::quiet_NaN();
   // [u] = Σ_a N_a (H⁺ − H⁻) a_a = 2 Σ_a N_a a_a over the crack's Heaviside unknowns.
   CellView v;
-  make_view(m, i, j, v);
+  make_view(m, i, j, v, s.time, &s);
   double jump[2] = {0.0, 0.0};
   for (int f = 0; f < v.count; ++f) {
     if (v.disc[f] != crack) continue;
     const int a = v.node[f];
     const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
-    for (int c = 0; c < 2; ++c) jump[c] += 2.0 * na * coefficient(v, s.u.data(), true, f, c);
+    for (int c = 0; c < 2; ++c) jump[c] += 2.0 * na * coefficient(v, s.u.data(), Field::displacement, f, c);
   }
   // Near a tip of this crack: of the four branch functions only F_1 = √r sin(θ/2) jumps, by 2√r
   // (upper minus lower in the tip's frame: the sign says which face is the positive one).
@@ -2900,7 +3158,7 @@ double plate_crack_opening(const PlateModel& m, const PlateState& s, int crack, 
     const int a = v.node[f];
     const double na = 0.25 * (1.0 + xi * kXi[a]) * (1.0 + eta * kEta[a]);
     for (int c = 0; c < 2; ++c)
-      jump[c] += branch_jump_sign(tip) * 2.0 * std::sqrt(r) * na * coefficient(v, s.u.data(), true, f, c);
+      jump[c] += branch_jump_sign(tip) * 2.0 * std::sqrt(r) * na * coefficient(v, s.u.data(), Field::displacement, f, c);
   }
   Point2 closest{}, dir{};
   xfem::polyline_closest(d.discontinuities[static_cast<std::size_t>(crack)].points, {x, y}, closest, dir);
@@ -2944,14 +3202,14 @@ int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPla
 void plate_piece_fields(const PlateModel& m, const PlateState& s, int i, int j, const PlateCellPiece& piece, double xi,
                         double eta, double u[2], double v[2], double stress[3]) {
   CellView view;
-  make_view(m, i, j, view);
+  make_view(m, i, j, view, s.time, &s);
   BasisAt basis;
   evaluate(m, view, xi, eta, piece.triangle >= 0 ? piece.triangle : triangle_of(xi, eta), piece.side, basis);
   for (int c = 0; c < 2; ++c) {
     u[c] = v[c] = 0.0;
     for (int f = 0; f < view.count; ++f) {
-      u[c] += basis.n[f] * coefficient(view, s.u.data(), true, f, c);
-      v[c] += basis.n[f] * coefficient(view, s.v.data(), false, f, c);
+      u[c] += basis.n[f] * coefficient(view, s.u.data(), Field::displacement, f, c);
+      v[c] += basis.n[f] * coefficient(view, s.v.data(), Field::velocity, f, c);
     }
   }
   double eps[3];
@@ -2966,11 +3224,12 @@ void plate_piece_fields(const PlateModel& m, const PlateState& s, int i, int j, 
                 dd[static_cast<std::size_t>(3 * r + 2)] * eps[2];
 }
 
-bool plate_point_basis(const PlateModel& m, int i, int j, double xi, double eta, int side, PlatePointBasis& out) {
+bool plate_point_basis(const PlateModel& m, int i, int j, double xi, double eta, int side, PlatePointBasis& out,
+                       double time) {
   out.count = 0;
   if (!m.built || i < 0 || j < 0 || i >= m.desc.cells[0] || j >= m.desc.cells[1]) return false;
   CellView view;
-  make_view(m, i, j, view);
+  make_view(m, i, j, view, time);
   BasisAt basis;
   evaluate(m, view, xi, eta, triangle_of(xi, eta), view.cut >= 0 ? side : 1, basis);
   out.count = view.count;
@@ -3013,7 +3272,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
   CellView v;
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i) {
-      make_view(m, i, j, v);
+      make_view(m, i, j, v, s.time, &s);
       double q[4];
       for (int a = 0; a < 4; ++a) q[a] = q_of(v.en[a]);
       // ∇q = 0 there, so the static terms vanish; the inertia term needs q = 0 too.
@@ -3026,7 +3285,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
         double gu[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
         for (int f = 0; f < v.count; ++f)
           for (int comp = 0; comp < 2; ++comp) {
-            const double u = coefficient(v, s.u.data(), true, f, comp);
+            const double u = coefficient(v, s.u.data(), Field::displacement, f, comp);
             gu[comp][0] += basis.dx[f] * u;
             gu[comp][1] += basis.dy[f] * u;
           }
@@ -3069,7 +3328,7 @@ void plate_stress_intensity(const PlateModel& m, const PlateState& s, int crack,
         if (inertia && qp != 0.0) {
           double acc[2] = {0.0, 0.0};
           for (int f = 0; f < v.count; ++f)
-            for (int comp = 0; comp < 2; ++comp) acc[comp] += basis.n[f] * coefficient(v, s.a.data(), false, f, comp);
+            for (int comp = 0; comp < 2; ++comp) acc[comp] += basis.n[f] * coefficient(v, s.a.data(), Field::acceleration, f, comp);
           const double rho = m.material_density[static_cast<std::size_t>(material)];
           acc_local[0] = rho * (c * acc[0] + sn * acc[1]);
           acc_local[1] = rho * (-sn * acc[0] + c * acc[1]);
@@ -3109,6 +3368,8 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   PlateEnergy e;
   if (!m.built) return e;
   e.kinetic = 0.5 * m.mass.quadratic(s.v.data());
+  // The moving held nodes' velocity too (the whole plate's ½vᵀMv).
+  if (!m.moving_component.empty()) e.kinetic += 0.5 * detail::moving_mass_quadratic(m, s.v.data(), s.held_v.data());
   // ½ t ∫ εᵀDε dA from the strains, cell by cell on the cell's quadrature: a
   // rigid motion has exactly zero strain, so no energy to lose in the
   // cancellation of uᵀKu.
@@ -3120,11 +3381,11 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   std::size_t other = 0;  // the cell's index among the non-plain ones (other_cell_*)
   for (int j = 0; j < m.desc.cells[1]; ++j)
     for (int i = 0; i < m.desc.cells[0]; ++i) {
-      make_view(m, i, j, v);
+      make_view(m, i, j, v, s.time, &s);
       if (v.plain) {
         for (int gp = 0; gp < 4; ++gp) {
           double eps[3];
-          strain_at(m, s.u.data(), i, j, gp == 0 || gp == 3 ? -g : g, gp < 2 ? -g : g, eps);
+          strain_at(m, s, i, j, gp == 0 || gp == 3 ? -g : g, gp < 2 ? -g : g, eps);
           double q = 0.0;
           for (int r = 0; r < 3; ++r) q += eps[r] * (dm[r][0] * eps[0] + dm[r][1] * eps[1] + dm[r][2] * eps[2]);
           elastic += w * q;
@@ -3140,7 +3401,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
         // without it nothing is lost to the cancellation of a drifting plate.
         const int nf = 2 * v.count;
         double ue[2 * kMaxCellFunctions];
-        for (int a = 0; a < nf; ++a) ue[a] = coefficient(v, s.u.data(), true, a / 2, a % 2);
+        for (int a = 0; a < nf; ++a) ue[a] = coefficient(v, s.u.data(), Field::displacement, a / 2, a % 2);
         double t[2] = {0.0, 0.0}, num = 0.0, den = 0.0;
         for (int a = 0; a < 4; ++a) t[0] += 0.25 * ue[2 * a], t[1] += 0.25 * ue[2 * a + 1];
         for (int a = 0; a < 4; ++a) {
@@ -3191,7 +3452,7 @@ PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   if (m.desc.self_weight)
     for (int n = 0; n < m.nodes; ++n)
       for (int c = 0; c < 2; ++c) {
-        e.potential -= m.node_mass[static_cast<std::size_t>(n)] * m.desc.gravity[c] * nodal(m, s.u.data(), true, n, c);
+        e.potential -= m.node_mass[static_cast<std::size_t>(n)] * m.desc.gravity[c] * nodal(m, s, Field::displacement, n, c);
         if (!m.enrichment_mass.empty())
           for (int sl = 0; sl < 2; ++sl) {
             const int dof = m.enriched_dof[static_cast<std::size_t>(2 * (2 * n + sl) + c)];
@@ -3214,14 +3475,17 @@ double plate_algorithmic_energy(const PlateModel& m, const PlateState& s) {
   const PlateEnergy e = plate_energy(m, s);
   const xfem::NewmarkScheme& k = m.scheme;
   const double c = k.beta - 0.5 * k.gamma;
-  return e.kinetic + e.elastic + (c == 0.0 ? 0.0 : 0.5 * k.dt * k.dt * c * m.mass.quadratic(s.a.data()));
+  if (c == 0.0) return e.kinetic + e.elastic;
+  double ama = m.mass.quadratic(s.a.data());
+  if (!m.moving_component.empty()) ama += detail::moving_mass_quadratic(m, s.a.data(), s.held_a.data());
+  return e.kinetic + e.elastic + 0.5 * k.dt * k.dt * c * ama;
 }
 
 double plate_momentum(const PlateModel& m, const PlateState& s, int component) {
   if (!m.built || component < 0 || component > 1) return std::numeric_limits<double>::quiet_NaN();
   double p = 0.0;
   for (int n = 0; n < m.nodes; ++n) {
-    p += m.node_mass[static_cast<std::size_t>(n)] * nodal(m, s.v.data(), false, n, component);
+    p += m.node_mass[static_cast<std::size_t>(n)] * nodal(m, s, Field::velocity, n, component);
     if (!m.enrichment_mass.empty())
       for (int sl = 0; sl < 2; ++sl) {
         const int dof = m.enriched_dof[static_cast<std::size_t>(2 * (2 * n + sl) + component)];

@@ -97,8 +97,9 @@ struct PlateBoundary {
 BuildResult plate_boundary_build(const PlateModel& plate, double max_radius, double allowance, PlateBoundary& out);
 
 /// The deformed position of every vertex (2 per vertex, x then y) at the
-/// plate's displacement u. No allocation.
-void plate_boundary_positions(const PlateModel& plate, const PlateBoundary& boundary, const double* u,
+/// plate's displacement u (its unknowns) at time `time` (s: the held
+/// displacements of prescribed nodes that move are their values then). No allocation.
+void plate_boundary_positions(const PlateModel& plate, const PlateBoundary& boundary, const double* u, double time,
                               double* positions);
 
 /// Whether every vertex is within the allowance of its reference position.
@@ -163,9 +164,9 @@ int plate_boundary_material_points(const PlateBoundary& boundary, const PlateBou
                                    PlateMaterialPoint at[kPlateBoundaryMaxPoints],
                                    double share[kPlateBoundaryMaxPoints]);
 
-/// The plate's field (displacement u, or a rate with held components 0) at a
-/// material point. No allocation.
+/// The plate's field (displacement u with the held displacements at `time`,
+/// s, or a rate with held components 0) at a material point. No allocation.
 void plate_material_point_field(const PlateModel& plate, const PlateMaterialPoint& at, const double* field,
-                                bool displacement, double out[2]);
+                                bool displacement, double time, double out[2]);
 
 }  // namespace xfdem
