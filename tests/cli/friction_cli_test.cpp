@@ -90,4 +90,44 @@ TEST(FrictionCli, TwoThreadsAndReplayGiveTheSameBits) {
   EXPECT_NE(other.exit_code, 0);
 }
 
+// abm4_events with friction takes a fixed all-pairs list (docs/dem.md): a
+// scene file without dem.all_pairs_up_to pairs its 20 disks all with all
+// instead of being refused. The disks rest apart on a floor at the static
+// overlap m g / k and stay there (every force balanced: the height and zero
+// spin, to the overlap's round-off); with the kernel's own bound given
+// (all_pairs_up_to 8) the scene is refused naming the integrator.
+TEST(FrictionCli, Abm4EventsWithFrictionPairsAllWithAll) {
+  const fs::path dir = xfdem::testing::scratch("friction_cli_test");
+  const fs::path scene = dir / "row.json", csv = dir / "row.csv";
+  const double m = 0.2, r = 0.01, k = 1e5, g = 9.81, rest = r - m * g / k;
+  std::ostringstream o;
+  o.precision(17);
+  o << R"({ "dimension": 2, "gravity": [0, -9.81], "time": { "end": 0.05, "dt": 1e-5 },
+  "dem": { "integrator": "abm4_events",
+    "contact": { "damping_ratio": 0.3, "friction": 0.5, "tangential_stiffness_ratio": 0.25 }, "particles": [)";
+  for (int i = 0; i < 20; ++i)
+    o << (i ? ", " : "") << R"({ "name": "d)" << i << R"(", "mass": )" << m << R"(, "radius": )" << r
+      << R"(, "stiffness": )" << k << R"(, "position": [)" << 0.03 * i << ", " << rest << "] }";
+  o << R"(],
+    "planes": [ { "name": "floor", "point": [0, 0], "normal": [0, 1] } ] },
+  "output": { "every": 0.05, "probes": [
+    { "name": "y0", "quantity": "position", "particle": "d0", "component": 1 },
+    { "name": "y19", "quantity": "position", "particle": "d19", "component": 1 },
+    { "name": "w7", "quantity": "angular_velocity", "particle": "d7" } ] } })";
+  std::ofstream(scene) << o.str();
+  const auto r1 = run("run " + scene.string() + " --csv " + csv.string());
+  ASSERT_EQ(r1.exit_code, 0) << r1.err;
+  const std::vector<double> row = xfdem::testing::last_csv_row(csv);
+  ASSERT_EQ(row.size(), 4u);
+  EXPECT_NEAR(row[1], rest, 1e-15);
+  EXPECT_NEAR(row[2], rest, 1e-15);
+  EXPECT_EQ(row[3], 0.0);
+  const auto r2 = run("run " + scene.string() + " --set dem.all_pairs_up_to=8 --csv " + csv.string());
+  EXPECT_NE(r2.exit_code, 0);
+  EXPECT_NE(r2.err.find("scene key 'dem.integrator': abm4_events with friction, rolling friction or the hertz law "
+                        "takes the pairs of broad phase none or all_pairs (20 particles need the grid"),
+            std::string::npos)
+      << r2.err;
+}
+
 }  // namespace

@@ -4,6 +4,7 @@
 #include "scene/plate_json.hpp"
 #include "xfdem/platform/memory.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <fstream>
@@ -160,6 +161,16 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
       desc.planes.push_back(plane);
     }
   }
+  // abm4_events with rotation (friction, rolling friction, hertz) takes a
+  // fixed all-pairs list (the kernel refuses the grid: docs/dem.md); without
+  // the key, a scene of up to kEventsAllPairsUpTo particles pairs them all
+  // rather than being refused (O(N²) pairs: beyond that, the kernel's message
+  // says what to change).
+  constexpr std::int32_t kEventsAllPairsUpTo = 512;
+  const bool rotates = desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz;
+  if (!dem.has("all_pairs_up_to") && desc.integrator == DemIntegrator::abm4_events && rotates)
+    desc.all_pairs_up_to = std::max(desc.all_pairs_up_to,
+                                    static_cast<std::int32_t>(std::min<std::size_t>(desc.particles.size(), kEventsAllPairsUpTo)));
   if (caps) refuse_unused_capacities(*caps, desc, integrator);
   return desc;
 }
