@@ -340,7 +340,7 @@ TEST(PlateCrackVoid, RefusalsNameTheCombination) {
     PlateBoundary b;
     const BuildResult r = plate_boundary_build(p.m, 1e-3, 0.05, b);
     EXPECT_FALSE(r.ok());
-    EXPECT_EQ(std::string(r.message), "discontinuities.1: the crack 'crack' and the void 'hole' cut the cell (12, 5); the coupled "
+    EXPECT_EQ(std::string(r.message), "continuum.discontinuities.1: the crack 'crack' and the void 'hole' cut the cell (12, 5); the coupled "
                          "contact boundary allows one discontinuity per cell");
   }
 }
