@@ -133,6 +133,38 @@ TEST(PlateCrackVoid, PiecesPartitionTheVoidAlonesMaterial) {
       if (p.m.node_dof[k] >= 0) total += p.m.mass_row_sums[static_cast<std::size_t>(p.m.node_dof[k])];
     return total;
   };
+  // The pieces plate_cell_pieces returns (the output's geometry) cover, cell
+  // by cell, the void-alone plate's pieces' area.
+  {
+    Built a, b;
+    ASSERT_TRUE(build_plate(pulled_hole(true, PlateDiscontinuity::Faces::free, 0.0, 0.0, kSigma), a.m, a.s, a.w).ok());
+    ASSERT_TRUE(build_plate(pulled_hole(false, PlateDiscontinuity::Faces::free, 0.0, 0.0, kSigma), b.m, b.s, b.w).ok());
+    auto area = [](const PlateModel& m, int i, int j, int& sides) {
+      PlateCellPiece pieces[kPlateMaxCellPieces];
+      const int n = plate_cell_pieces(m, i, j, pieces);
+      double total = 0.0;
+      sides = 0;
+      for (int k = 0; k < n; ++k) {
+        const PlateCellPiece& q = pieces[k];
+        total += 0.5 * std::fabs((q.xi[1] - q.xi[0]) * (q.eta[2] - q.eta[0]) - (q.eta[1] - q.eta[0]) * (q.xi[2] - q.xi[0]));
+        sides |= q.side > 0 ? 1 : 2;
+      }
+      return total;
+    };
+    int both = 0;
+    for (int j = 0; j < 40; ++j)
+      for (int i = 0; i < 40; ++i) {
+        if (a.m.cell_void_cut[static_cast<std::size_t>(j * 40 + i)] < 0) continue;
+        int sa = 0, sb = 0;
+        const double with = area(a.m, i, j, sa), without = area(b.m, i, j, sb);
+        std::printf("cell (%d, %d) cut by both: pieces' parent area %.17g, void alone %.17g, crack sides %d\n", i, j, with,
+                    without, sa);
+        EXPECT_NEAR(with, without, 1e-14);
+        EXPECT_EQ(sa, 3);  // material on both sides of the crack there
+        ++both;
+      }
+    EXPECT_GT(both, 0);
+  }
   const double with = mass(true), without = mass(false);
   const double exact = 7800.0 * (1.0 - std::numbers::pi * kR * kR);
   std::printf("mass with the crack %.17g kg, void alone %.17g kg (relative difference %.3g); exact circle %.6g kg\n",
