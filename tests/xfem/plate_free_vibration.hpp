@@ -57,8 +57,7 @@ inline PlateDesc cracked_plate_with_a_void() {
 /// roundoff_epsilon): each step the state is the exact Newmark image of the
 /// previous one plus a rounding error of relative size ≤ 16·κ·u in the scaled
 /// unknowns, adding at worst linearly over the steps.
-inline FreeVibration run_free_vibration(std::int64_t steps) {
-  const PlateDesc d = cracked_plate_with_a_void();
+inline FreeVibration run_free_vibration(std::int64_t steps, const PlateDesc& d = cracked_plate_with_a_void()) {
   PlateModel m;
   PlateState st;
   PlateWorkspace ws;

@@ -223,6 +223,9 @@ struct PlateModel {
   /// Per cell (c = j nx + i): the discontinuity that cuts it (−1 none); for an
   /// uncut cell, its material: 0 the plate's, 1 + k inclusion k's, −1 none (a hole).
   std::vector<int> cell_cut_by, cell_material;
+  /// Per cell: the void that cuts it together with the crack cell_cut_by
+  /// holds (a crack from a hole; −1 none). Sized with cell_cut_by.
+  std::vector<int> cell_void_cut;
   int cut_cells = 0;
   /// Elasticity and density of material 0 (the plate) and 1 + k (inclusion k).
   std::vector<std::array<double, 9>> material_elasticity;
@@ -443,7 +446,8 @@ struct PlateCellPiece {
   int side = 1;                        ///< side of the cutting level set (+1 uncut)
   int material = 0;                    ///< 0 the plate's, 1 + k inclusion k's
 };
-inline constexpr int kPlateMaxCellPieces = 16;
+/// A cell cut by a crack and a void: up to 12 crack pieces, each split by the void in up to 3.
+inline constexpr int kPlateMaxCellPieces = 36;
 /// The pieces of cell (i, j) (read-only geometry of the model; 0 for an
 /// unbuilt model, a cell out of range or a cell with no material).
 int plate_cell_pieces(const PlateModel& model, int i, int j, PlateCellPiece out[kPlateMaxCellPieces]);

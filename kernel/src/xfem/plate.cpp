@@ -151,8 +151,29 @@ bool polyline_meets_box(const std::vector<Point2>& p, const double lo[2], const 
   return false;
 }
 
-/// A crack end strictly inside the domain is a tip.
+/// Point x strictly inside some void (its exact level set negative): no material there.
+bool in_void(const PlateDesc& d, Point2 x) {
+  for (const PlateDiscontinuity& h : d.discontinuities)
+    if (h.kind == PlateDiscontinuity::Kind::hole && h.shape != PlateDiscontinuity::Shape::polyline &&
+        level_set(h, h.points, x) < 0.0)
+      return true;
+  return false;
+}
+
+/// A crack end strictly inside the domain and not inside a void is a tip
+/// (an end inside a void has no material about it).
+bool end_is_tip(const PlateDesc& d, const PlateDiscontinuity& q, bool at_end) {
+  const Point2 end = at_end ? q.points.back() : q.points.front();
+  return strictly_inside(d, end) && !in_void(d, end);
+}
+
 bool crack_has_tip(const PlateDesc& d, const PlateDiscontinuity& q) {
+  return q.kind == PlateDiscontinuity::Kind::crack && q.points.size() >= 2 && (end_is_tip(d, q, false) || end_is_tip(d, q, true));
+}
+
+/// The crack cuts only the cells its polyline enters (not its extension):
+/// some end is inside the domain (a tip, or an end inside a void).
+bool crack_is_bounded(const PlateDesc& d, const PlateDiscontinuity& q) {
   return q.kind == PlateDiscontinuity::Kind::crack && q.points.size() >= 2 &&
          (strictly_inside(d, q.points.front()) || strictly_inside(d, q.points.back()));
 }
@@ -367,6 +388,8 @@ struct CellView {
   double held[kMaxCellFunctions][2] = {};   ///< displacement of a held standard component (at make_view's time)
   double held_rate[2][kMaxCellFunctions][2] = {};  ///< its velocity [0] and acceleration [1] (moving ones; else 0)
   double phi[5] = {};        ///< the cutting discontinuity's level set at the nodes and the centre (mean)
+  int void_cut = -1;         ///< a void cutting the cell with the crack `cut` (−1 none)
+  double void_phi[5] = {};   ///< its level set at the nodes and the centre (mean)
   double x0[2] = {}, x1[2] = {};  ///< the cell's lower-left and upper-right corners, m
   bool plain = true;  ///< standard functions only, the plate's material, uncut (the fixed element matrices apply)
 };
@@ -492,6 +515,12 @@ void make_view(const PlateModel& m, int i, int j, CellView& v, double time = 0.0
     double mean = 0.0;
     for (int a = 0; a < 4; ++a) mean += (v.phi[a] = phi_at(m, v.cut, v.en[a]));
     v.phi[4] = 0.25 * mean;
+  }
+  v.void_cut = m.cell_void_cut.empty() ? -1 : m.cell_void_cut[static_cast<std::size_t>(v.cell)];
+  if (v.void_cut >= 0) {
+    double mean = 0.0;
+    for (int a = 0; a < 4; ++a) mean += (v.void_phi[a] = phi_at(m, v.void_cut, v.en[a]));
+    v.void_phi[4] = 0.25 * mean;
   }
   if (v.touch_tip >= 0 && v.cut >= 0) {
     // The tip's crack cuts the cell it touches: where its straight tip segment
@@ -733,6 +762,40 @@ int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece 
   return count;
 }
 
+/// The material part of a piece (side `piece.side` of the crack) of
+/// sub-triangle `tri` of a cell a void cuts too: the piece split along the
+/// void's level set, linear on the sub-triangle (values void_phi at its
+/// nodes and the centre), the parts on the void's negative side (inside it)
+/// dropped by membership. Each part keeps the piece's crack side. Returns
+/// the number of parts written (0–3).
+int material_parts(const double void_phi[5], int tri, const xfem::TrianglePiece& piece, xfem::TrianglePiece out[3]) {
+  double phi[3];
+  const int b = (tri + 1) % 4;
+  for (int c = 0; c < 3; ++c) {
+    const Point2 x = piece.v[c];
+    // The sub-triangle's own corners take their values exactly (the sign decides membership).
+    if (x[0] == kXi[tri] && x[1] == kEta[tri]) {
+      phi[c] = void_phi[tri];
+    } else if (x[0] == kXi[b] && x[1] == kEta[b]) {
+      phi[c] = void_phi[b];
+    } else if (x[0] == 0.0 && x[1] == 0.0) {
+      phi[c] = void_phi[4];
+    } else {
+      double gx = 0.0, gy = 0.0;
+      linear_on_triangle(tri, void_phi[tri], void_phi[b], void_phi[4], x[0], x[1], phi[c], gx, gy);
+    }
+  }
+  xfem::TrianglePiece parts[3];
+  const int made = xfem::split_triangle(piece.v, phi, parts);
+  int count = 0;
+  for (int p = 0; p < made; ++p) {
+    if (parts[p].side < 0) continue;
+    out[count] = parts[p];
+    out[count++].side = piece.side;
+  }
+  return count;
+}
+
 // Gauss-Legendre, 7 points on [0, 1] (exact to degree 13).
 constexpr double kGl7x[7] = {0.5 * (1.0 - 0.9491079123427585), 0.5 * (1.0 - 0.7415311855993945),
                              0.5 * (1.0 - 0.4058451513773972), 0.5,
@@ -931,21 +994,31 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
     }
     return;
   }
-  for (int p = 0; p < count; ++p) {
-    const xfem::TrianglePiece& q = pieces[p];
-    const int material = material_of(m, v, q.side);
-    if (material < 0) continue;
+  auto integrate = [&](const xfem::TrianglePiece& q, int tri, int material) {
     const Point2 v0 = q.v[0], v1 = q.v[1], v2 = q.v[2];
     const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
     const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
     const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
-    if (jac == 0.0) continue;
+    if (jac == 0.0) return;
     for (int ia = 0; ia < 5; ++ia)
       for (int ib = 0; ib < 5; ++ib) {
         const double a = kGl5x[ia], b = kGl5x[ib];
         const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
-        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, triangle[p], q.side, material);
+        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, tri, q.side, material);
       }
+  };
+  for (int p = 0; p < count; ++p) {
+    const xfem::TrianglePiece& q = pieces[p];
+    const int material = material_of(m, v, q.side);
+    if (material < 0) continue;
+    if (v.void_cut < 0) {
+      integrate(q, triangle[p], material);
+      continue;
+    }
+    // A crack's piece in a cell the void cuts too: its material parts only.
+    xfem::TrianglePiece parts[3];
+    const int made = material_parts(v.void_phi, triangle[p], q, parts);
+    for (int r = 0; r < made; ++r) integrate(parts[r], triangle[p], material);
   }
 }
 
@@ -1691,16 +1764,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     }
     const auto ncells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     model.cell_cut_by.assign(ncells, -1);
+    model.cell_void_cut.assign(ncells, -1);
     model.cell_material.assign(ncells, 0);
     // ---- crack tips: the ends strictly inside the domain ----------------------
-    std::vector<char> has_tip(ndisc, 0);
+    std::vector<char> has_tip(ndisc, 0), bounded(ndisc, 0);
     for (std::size_t k = 0; k < ndisc; ++k) {
       const PlateDiscontinuity& q = d.discontinuities[k];
+      bounded[k] = crack_is_bounded(d, q) ? 1 : 0;
       if (!crack_has_tip(d, q)) continue;
       has_tip[k] = 1;
       for (const bool at_end : {false, true}) {
-        const Point2 end = at_end ? q.points.back() : q.points.front();
-        if (!strictly_inside(d, end)) continue;
+        if (!end_is_tip(d, q, at_end)) continue;
         if (model.cell_tip.empty()) {
           model.cell_tip.assign(ncells, -1);
           model.node_tip.assign(static_cast<std::size_t>(nodes), -1);
@@ -1797,22 +1871,123 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             lo = std::min(lo, p), hi = std::max(hi, p);
           }
           const PlateDiscontinuity& q = d.discontinuities[k];
-          // A crack with a tip cuts only the cells its polyline enters (not its extension beyond the tip).
+          // A crack with an end inside the domain (a tip, or an end in a void)
+          // cuts only the cells its polyline enters (not its extension).
           const double clo[2] = {xs(i), ys(j)}, chi[2] = {xs(i + 1), ys(j + 1)};
-          if (lo < 0.0 && hi > 0.0 && (!has_tip[k] || polyline_meets_box(q.points, clo, chi, true))) {  // area on both sides
+          if (lo < 0.0 && hi > 0.0 && (!bounded[k] || polyline_meets_box(q.points, clo, chi, true))) {  // area on both sides
             const int other = model.cell_cut_by[cell];
-            if (other >= 0)
-              return BuildResult::failure(Code::invalid_argument,
-                                          "discontinuities.%zu: '%s' and '%s' cut the same cell (%d, %d); this build "
-                                          "allows one discontinuity per cell (refine the mesh or move them apart)",
-                                          k, q.name.c_str(), d.discontinuities[static_cast<std::size_t>(other)].name.c_str(),
-                                          i, j);
+            if (other >= 0) {
+              // A crack and a void may share a cell (a crack from a hole): the crack
+              // in cell_cut_by, the void in cell_void_cut.
+              const PlateDiscontinuity& o = d.discontinuities[static_cast<std::size_t>(other)];
+              const bool crack_void = (q.kind == PlateDiscontinuity::Kind::crack && o.kind == PlateDiscontinuity::Kind::hole) ||
+                                      (q.kind == PlateDiscontinuity::Kind::hole && o.kind == PlateDiscontinuity::Kind::crack);
+              if (!crack_void || model.cell_void_cut[cell] >= 0)
+                return BuildResult::failure(Code::invalid_argument,
+                                            "discontinuities.%zu: '%s' and '%s' cut the same cell (%d, %d); this build "
+                                            "allows one discontinuity per cell, or one crack and one void (refine the "
+                                            "mesh or move them apart)",
+                                            k, q.name.c_str(), o.name.c_str(), i, j);
+              model.cell_cut_by[cell] = q.kind == PlateDiscontinuity::Kind::crack ? static_cast<int>(k) : other;
+              model.cell_void_cut[cell] = q.kind == PlateDiscontinuity::Kind::crack ? other : static_cast<int>(k);
+              continue;
+            }
             model.cell_cut_by[cell] = static_cast<int>(k);
           } else if (lo < 0.0 && q.kind != PlateDiscontinuity::Kind::crack) {  // wholly inside
             model.cell_material[cell] = q.kind == PlateDiscontinuity::Kind::hole ? -1 : 1 + static_cast<int>(k);
           }
         }
         if (model.cell_cut_by[cell] >= 0) ++model.cut_cells;
+      }
+    // Cells cut by a crack and a void: which sides of the crack hold material
+    // (bit 1: +, bit 2: −), from the pieces as they are integrated; the crack's
+    // part outside the void must be the crack itself (an end in the void whose
+    // extension leaves the void in the same cell is refused), and neither a
+    // tip's branch functions nor the domain's edge may reach the cell.
+    std::vector<unsigned char> void_sides(ncells, 0);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const auto cell = static_cast<std::size_t>(j * nx + i);
+        const int hv = model.cell_void_cut[cell];
+        if (hv < 0) continue;
+        const int k = model.cell_cut_by[cell];
+        const PlateDiscontinuity& q = d.discontinuities[static_cast<std::size_t>(k)];
+        const char* crack = q.name.c_str();
+        const char* hole = d.discontinuities[static_cast<std::size_t>(hv)].name.c_str();
+        if (i == 0 || j == 0 || i == nx - 1 || j == ny - 1)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%d: the crack '%s' and the void '%s' cut the cell (%d, %d) on "
+                                      "the domain's edge; this build needs a cell they both cut inside the domain "
+                                      "(refine the mesh or move them from the edge)",
+                                      k, crack, hole, i, j);
+        int en[4];
+        cell_nodes(nx, i, j, en);
+        bool tip_here = !model.cell_tip.empty() && model.cell_tip[cell] >= 0;
+        for (int a = 0; a < 4 && !model.node_tip.empty(); ++a) tip_here = tip_here || model.node_tip[static_cast<std::size_t>(en[a])] >= 0;
+        if (tip_here)
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%d: a crack tip's branch functions reach the cell (%d, %d) that "
+                                      "the crack '%s' and the void '%s' both cut; this build needs a tip at least a "
+                                      "cell from such a cell (refine the mesh or move the tip from the void)",
+                                      k, i, j, crack, hole);
+        double phi[5] = {}, vphi[5] = {}, mc = 0.0, mv = 0.0;
+        for (int a = 0; a < 4; ++a) {
+          mc += (phi[a] = phi_at(model, k, en[a]));
+          mv += (vphi[a] = phi_at(model, hv, en[a]));
+        }
+        phi[4] = 0.25 * mc, vphi[4] = 0.25 * mv;
+        const std::vector<Point2> ext = extended_polyline(d, q);
+        for (int t = 0; t < 4; ++t) {
+          Point2 tri[3];
+          sub_triangle(t, tri);
+          const double tp[3] = {phi[t], phi[(t + 1) % 4], phi[4]};
+          xfem::TrianglePiece pieces[3];
+          const int made = xfem::split_triangle(tri, tp, pieces);
+          for (int p = 0; p < made; ++p) {
+            xfem::TrianglePiece parts[3];
+            const int np = material_parts(vphi, t, pieces[p], parts);
+            for (int r = 0; r < np; ++r) {
+              const xfem::TrianglePiece& g = parts[r];
+              const double a2 = (g.v[1][0] - g.v[0][0]) * (g.v[2][1] - g.v[0][1]) - (g.v[1][1] - g.v[0][1]) * (g.v[2][0] - g.v[0][0]);
+              if (a2 != 0.0) void_sides[cell] |= g.side > 0 ? 1 : 2;
+            }
+          }
+          // The crack's line in the sub-triangle (where φ_T crosses zero).
+          Point2 seg[2];
+          int found = 0;
+          for (int e = 0; e < 3 && found < 2; ++e) {
+            const int a = e, b = (e + 1) % 3;
+            if (tp[a] == 0.0) seg[found++] = tri[a];
+            if (found < 2 && ((tp[a] < 0.0 && tp[b] > 0.0) || (tp[a] > 0.0 && tp[b] < 0.0))) {
+              const double sc = tp[a] / (tp[a] - tp[b]);
+              seg[found++] = {tri[a][0] + sc * (tri[b][0] - tri[a][0]), tri[a][1] + sc * (tri[b][1] - tri[a][1])};
+            }
+          }
+          if (found < 2) continue;
+          // Its part outside the void (the void's φ_T ≥ 0), then its middle against the polyline.
+          double vs[2];
+          for (int c = 0; c < 2; ++c) {
+            double gx = 0.0, gy = 0.0;
+            linear_on_triangle(t, vphi[t], vphi[(t + 1) % 4], vphi[4], seg[c][0], seg[c][1], vs[c], gx, gy);
+          }
+          if (vs[0] < 0.0 && vs[1] < 0.0) continue;
+          double s0 = 0.0, s1 = 1.0;
+          if (vs[0] < 0.0) s0 = vs[0] / (vs[0] - vs[1]);
+          if (vs[1] < 0.0) s1 = vs[0] / (vs[0] - vs[1]);
+          if (!(s1 > s0)) continue;
+          const double sm = 0.5 * (s0 + s1);
+          const Point2 mid = {xs(i) + 0.5 * (1.0 + seg[0][0] + sm * (seg[1][0] - seg[0][0])) * hx,
+                              ys(j) + 0.5 * (1.0 + seg[0][1] + sm * (seg[1][1] - seg[0][1])) * hy};
+          Point2 on{}, on_ext{}, dir{};
+          xfem::polyline_closest(q.points, mid, on, dir);
+          xfem::polyline_closest(ext, mid, on_ext, dir);
+          if (std::hypot(mid[0] - on[0], mid[1] - on[1]) > std::hypot(mid[0] - on_ext[0], mid[1] - on_ext[1]) + 1e-9 * std::min(hx, hy))
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%d: the extension of the crack '%s' beyond its end in the void "
+                                        "'%s' leaves the void in the cell (%d, %d); this build needs the crack's end "
+                                        "deeper in the void or a finer mesh",
+                                        k, crack, hole, i, j);
+        }
       }
     if (model.cut_cells > d.max_cut_cells)
       return BuildResult::failure(Code::capacity, "max_cut_cells: the discontinuities cut %d cells, more than %d",
@@ -1846,12 +2021,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
               int en[4];
               cell_nodes(nx, ci, cj, en);
               if (model.cell_material[cell] < 0) continue;  // no material in the cell
-              if (has_tip[k]) {
+              if (bounded[k]) {
                 // Sides count only where the crack itself (not its extension) reaches the cell.
                 const double clo[2] = {xs(ci), ys(cj)}, chi[2] = {xs(ci + 1), ys(cj + 1)};
                 if (!polyline_meets_box(q.points, clo, chi, false)) continue;
               }
-              if (model.cell_cut_by[cell] == static_cast<int>(k)) {
+              if (model.cell_cut_by[cell] == static_cast<int>(k) && model.cell_void_cut[cell] >= 0) {
+                // Cut by the void too: only the sides with material outside it.
+                cut = true;
+                plus = plus || (void_sides[cell] & 1) != 0;
+                minus = minus || (void_sides[cell] & 2) != 0;
+              } else if (model.cell_cut_by[cell] == static_cast<int>(k)) {
                 cut = plus = minus = true;
               } else {
                 (uncut_side(model, static_cast<int>(k), en) > 0 ? plus : minus) = true;
@@ -2280,10 +2460,25 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             }
             // A crossing or two vertices on the zero: either way two points.
             if (found < 2) continue;
+            if (view.void_cut >= 0 && view.cut == static_cast<int>(k)) {
+              // A cell the void cuts too: the faces outside the void only (its φ_T ≥ 0).
+              double vs[2];
+              for (int c = 0; c < 2; ++c) {
+                double g0 = 0.0, g1 = 0.0;
+                linear_on_triangle(t, view.void_phi[t], view.void_phi[(t + 1) % 4], view.void_phi[4], seg[c][0], seg[c][1],
+                                   vs[c], g0, g1);
+              }
+              if (vs[0] < 0.0 && vs[1] < 0.0) continue;
+              if (vs[0] < 0.0 || vs[1] < 0.0) {
+                const double sc = vs[0] / (vs[0] - vs[1]);
+                const Point2 cut = {seg[0][0] + sc * (seg[1][0] - seg[0][0]), seg[0][1] + sc * (seg[1][1] - seg[0][1])};
+                seg[vs[0] < 0.0 ? 0 : 1] = cut;
+              }
+            }
             const double lx = (seg[1][0] - seg[0][0]) * 0.5 * hx, ly = (seg[1][1] - seg[0][1]) * 0.5 * hy;
             const double length = std::hypot(lx, ly);
             if (length == 0.0) continue;
-            if (crack_has_tip(d, q)) {
+            if (crack_is_bounded(d, q)) {
               // Only the crack, not its extension beyond a tip: the piece's middle is
               // (to round-off) as near the polyline as the extended one.
               const Point2 mid = physical(view, 0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1]));
@@ -3184,17 +3379,27 @@ int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPla
   int triangle[kMaxPieces];
   const int n = triangle_pieces(m, v, pieces, triangle);
   int count = 0;
-  for (int k = 0; k < n && count < kPlateMaxCellPieces; ++k) {
-    const xfem::TrianglePiece& q = pieces[k];
-    const int material = material_of(m, v, q.side);
+  auto add = [&](const xfem::TrianglePiece& q, int tri, int material) {
     const double e1x = q.v[1][0] - q.v[0][0], e1y = q.v[1][1] - q.v[0][1];
     const double e2x = q.v[2][0] - q.v[1][0], e2y = q.v[2][1] - q.v[1][1];
-    if (material < 0 || e1x * e2y - e1y * e2x == 0.0) continue;
+    if (e1x * e2y - e1y * e2x == 0.0 || count >= kPlateMaxCellPieces) return;
     PlateCellPiece& p = out[count++];
     p = PlateCellPiece{};
     p.corners = 3;
     for (int a = 0; a < 3; ++a) p.xi[a] = q.v[a][0], p.eta[a] = q.v[a][1];
-    p.triangle = triangle[k], p.side = q.side, p.material = material;
+    p.triangle = tri, p.side = q.side, p.material = material;
+  };
+  for (int k = 0; k < n && count < kPlateMaxCellPieces; ++k) {
+    const xfem::TrianglePiece& q = pieces[k];
+    const int material = material_of(m, v, q.side);
+    if (material < 0) continue;
+    if (v.void_cut < 0) {
+      add(q, triangle[k], material);
+      continue;
+    }
+    xfem::TrianglePiece parts[3];
+    const int made = material_parts(v.void_phi, triangle[k], q, parts);
+    for (int r = 0; r < made; ++r) add(parts[r], triangle[k], material);
   }
   return count;
 }
