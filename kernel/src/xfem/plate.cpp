@@ -796,6 +796,26 @@ int material_parts(const double void_phi[5], int tri, const xfem::TrianglePiece&
   return count;
 }
 
+/// Calls f(piece, sub-triangle, material) for each piece of a cell that holds
+/// material: the pieces in a void are skipped, and in a cell the void cuts
+/// too, a crack's piece is split to its parts outside the void.
+template <class F>
+void for_each_material_piece(const PlateModel& m, const CellView& v, const xfem::TrianglePiece* pieces,
+                             const int* triangle, int count, F&& f) {
+  for (int p = 0; p < count; ++p) {
+    const xfem::TrianglePiece& q = pieces[p];
+    const int material = material_of(m, v, q.side);
+    if (material < 0) continue;
+    if (v.void_cut < 0) {
+      f(q, triangle[p], material);
+      continue;
+    }
+    xfem::TrianglePiece parts[3];
+    const int made = material_parts(v.void_phi, triangle[p], q, parts);
+    for (int r = 0; r < made; ++r) f(parts[r], triangle[p], material);
+  }
+}
+
 // Gauss-Legendre, 7 points on [0, 1] (exact to degree 13).
 constexpr double kGl7x[7] = {0.5 * (1.0 - 0.9491079123427585), 0.5 * (1.0 - 0.7415311855993945),
                              0.5 * (1.0 - 0.4058451513773972), 0.5,
@@ -1007,19 +1027,7 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
         f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, tri, q.side, material);
       }
   };
-  for (int p = 0; p < count; ++p) {
-    const xfem::TrianglePiece& q = pieces[p];
-    const int material = material_of(m, v, q.side);
-    if (material < 0) continue;
-    if (v.void_cut < 0) {
-      integrate(q, triangle[p], material);
-      continue;
-    }
-    // A crack's piece in a cell the void cuts too: its material parts only.
-    xfem::TrianglePiece parts[3];
-    const int made = material_parts(v.void_phi, triangle[p], q, parts);
-    for (int r = 0; r < made; ++r) integrate(parts[r], triangle[p], material);
-  }
+  for_each_material_piece(m, v, pieces, triangle, count, integrate);
 }
 
 /// The cell of domain edge `edge` holding its e-th segment (along increasing
@@ -1405,26 +1413,12 @@ class PlateOperator {
     if (held_ != nullptr && fac0 != 0.0)  // a redone step: the held points stay active
       for (std::size_t p = 0; p < points; ++p) ws_.active[p] |= held_[p];
     for (int iteration = 0; iteration < kMaxActiveSetIterations; ++iteration) {
-      for (int i = 0; i < n; ++i) k[i] = base[i];
-      for (std::size_t p = 0; p < points; ++p) {
-        if (!ws_.active[p]) continue;
-        const PlateModel::FacePoint& fp = m_.face_points[p];
-        const double force = fp.weight * fp.k_normal * face_gap(fp, x);
-        for (int a = 0; a < fp.terms; ++a)
-          if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
-      }
+      active_rhs(x, base, k);
       if (fac0 == 0.0) {  // M k = …: the acceleration does not move u
         m_.mass_factor.solve(k, ws_.solve_work.data());
         return StepStatus::ok;
       }
-      if (ws_.active != ws_.factored_active) {
-        ws_.effective = m_.base_effective;
-        for (std::size_t p = 0; p < points; ++p)
-          if (ws_.active[p]) add_face_penalty(ws_.effective, m_.face_points[p], fac0);
-        ws_.factor.factor(ws_.effective);
-        ws_.factored_active = ws_.active;
-      }
-      ws_.factor.solve(k, ws_.solve_work.data());
+      solve_active(fac0, k);
       bool same = true;
       for (std::size_t p = 0; p < points; ++p) {
         if (!m_.face_points[p].unilateral) continue;
@@ -1446,6 +1440,31 @@ class PlateOperator {
   static constexpr int kMaxDampedIterations = 200;
 
  private:
+  /// k = base − the active points' springs at the gaps of x.
+  void active_rhs(const double* x, const double* base, double* k) const {
+    for (int i = 0; i < m_.dofs; ++i) k[i] = base[i];
+    for (std::size_t p = 0; p < m_.face_points.size(); ++p) {
+      if (!ws_.active[p]) continue;
+      const PlateModel::FacePoint& fp = m_.face_points[p];
+      const double force = fp.weight * fp.k_normal * face_gap(fp, x);
+      for (int a = 0; a < fp.terms; ++a)
+        if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
+    }
+  }
+
+  /// k ← (M_eff + fac0 Σ_active penalties)⁻¹ k, re-factoring only when the
+  /// active set differs from the one factored last.
+  void solve_active(double fac0, double* k) const {
+    if (ws_.active != ws_.factored_active) {
+      ws_.effective = m_.base_effective;
+      for (std::size_t p = 0; p < m_.face_points.size(); ++p)
+        if (ws_.active[p]) add_face_penalty(ws_.effective, m_.face_points[p], fac0);
+      ws_.factor.factor(ws_.effective);
+      ws_.factored_active = ws_.active;
+    }
+    ws_.factor.solve(k, ws_.solve_work.data());
+  }
+
   /// The plain iteration above is Newton's method on the solve's convex,
   /// piecewise quadratic energy (each solve minimises it with the set of the
   /// last iterate), and undamped it can cycle between sets. From its last
@@ -1477,22 +1496,8 @@ class PlateOperator {
     for (int iteration = 0; iteration < kMaxDampedIterations; ++iteration) {
       for (std::size_t p = 0; p < points; ++p)
         ws_.active[p] = m_.face_points[p].unilateral && (gap[p] < 0.0 || held(p)) ? 1 : 0;
-      for (int i = 0; i < n; ++i) k[i] = base[i];
-      for (std::size_t p = 0; p < points; ++p) {
-        if (!ws_.active[p]) continue;
-        const PlateModel::FacePoint& fp = m_.face_points[p];
-        const double force = fp.weight * fp.k_normal * face_gap(fp, x);
-        for (int a = 0; a < fp.terms; ++a)
-          if (fp.dof[a] >= 0) k[fp.dof[a]] -= force * fp.normal[a];
-      }
-      if (ws_.active != ws_.factored_active) {
-        ws_.effective = m_.base_effective;
-        for (std::size_t p = 0; p < points; ++p)
-          if (ws_.active[p]) add_face_penalty(ws_.effective, m_.face_points[p], fac0);
-        ws_.factor.factor(ws_.effective);
-        ws_.factored_active = ws_.active;
-      }
-      ws_.factor.solve(k, ws_.solve_work.data());
+      active_rhs(x, base, k);
+      solve_active(fac0, k);
       bool same = true, round_off = true;
       for (std::size_t p = 0; p < points; ++p) {
         const PlateModel::FacePoint& fp = m_.face_points[p];
@@ -3389,18 +3394,7 @@ int plate_cell_pieces(const PlateModel& m, int i, int j, PlateCellPiece out[kPla
     for (int a = 0; a < 3; ++a) p.xi[a] = q.v[a][0], p.eta[a] = q.v[a][1];
     p.triangle = tri, p.side = q.side, p.material = material;
   };
-  for (int k = 0; k < n && count < kPlateMaxCellPieces; ++k) {
-    const xfem::TrianglePiece& q = pieces[k];
-    const int material = material_of(m, v, q.side);
-    if (material < 0) continue;
-    if (v.void_cut < 0) {
-      add(q, triangle[k], material);
-      continue;
-    }
-    xfem::TrianglePiece parts[3];
-    const int made = material_parts(v.void_phi, triangle[k], q, parts);
-    for (int r = 0; r < made; ++r) add(parts[r], triangle[k], material);
-  }
+  for_each_material_piece(m, v, pieces, triangle, n, add);  // add() stops at kPlateMaxCellPieces
   return count;
 }
 
