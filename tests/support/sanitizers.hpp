@@ -10,3 +10,15 @@
 #define XFDEM_UNDER_ASAN 1
 #endif
 #endif
+
+namespace xfdem::test {
+/// Under the sanitizer the heaviest accuracy sweeps run a shorter share of
+/// their loops (fewer trials, fewer steps, the coarser of two meshes): the
+/// sanitizer checks memory, which the first cases reach as the rest do, and
+/// the release build runs every sweep whole.
+#ifdef XFDEM_UNDER_ASAN
+inline constexpr bool kUnderAsan = true;
+#else
+inline constexpr bool kUnderAsan = false;
+#endif
+}  // namespace xfdem::test

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/plate_scenes.hpp"
+#include "support/sanitizers.hpp"
 #include "xfdem/coupling/plate_boundary.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
@@ -236,7 +237,7 @@ TEST(PlateCrackVoid, StiffTiedFacesGiveTheVoidAlone) {
 TEST(PlateCrackVoid, CrackFromAHoleFollowsBowie) {
   for (const bool two : {true, false}) {
     double f[2][2] = {};
-    for (int w = 0; w < 2; ++w) {
+    for (int w = 0; w < (test::kUnderAsan ? 1 : 2); ++w) {  // the coarser plate only under the sanitizer
       Built p;
       const BuildResult r = build_plate(test::bowie_plate(w == 0 ? 10.0 : 20.0, w == 0 ? 101 : 201, 1.0, two), p.m,
                                         p.s, p.w);
@@ -250,6 +251,7 @@ TEST(PlateCrackVoid, CrackFromAHoleFollowsBowie) {
         EXPECT_NEAR(f[w][k], f[w][0], 0.01 * f[w][0]);
       }
     }
+    if (test::kUnderAsan) continue;  // the extrapolation needs both plates
     const double exact = two ? test::bowie_two(1.0) : test::kBowieOneAtR;
     for (int k = 0; k < 2; ++k) {
       const double inf = test::infinite_plate(f[0][k], f[1][k]);
