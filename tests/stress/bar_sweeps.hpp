@@ -203,12 +203,13 @@ inline BarOutcome run_bar_case(const BarDesc& d, const KickedRod& load, std::int
     }
     if (load.lift > 0.0) {
       // Every unknown of the upper side's field (the cells above the interface)
-      // moves by `lift`; a_0 from the equation of motion under the press (which
+      // moves by `lift`, but an offset (BarModel::offset_dof), which a rigid
+      // lift leaves 0; a_0 from the equation of motion under the press (which
       // also restarts the energy check's books from this start).
       for (const BarCell& c : m.cells)
         if (c.a >= m.interface_position)
           for (int dof : c.dof)
-            if (dof >= 0) st.u[static_cast<std::size_t>(dof)] = load.lift;
+            if (dof >= 0 && dof != m.offset_dof) st.u[static_cast<std::size_t>(dof)] = load.lift;
       if (bar_initial_acceleration(m, st, ws, BarInput{load.press}) != StepStatus::ok) {
         o.built = false;
         o.build_message = "the lifted start";

@@ -96,6 +96,12 @@ struct BarCell {
   int dof[2] = {-1, -1};  ///< unknowns multiplying N0, N1; −1: constrained to zero
   double x0 = 0.0, x1 = 0.0;
   double a = 0.0, b = 0.0;
+  /// 0 or 1 on the conforming mesh's short cell at the interface: that end's
+  /// unknown is its offset from the other end's value (the end's value is the
+  /// two unknowns' sum), so the cell's stiffness E·A/(s·h) sits on that
+  /// unknown's diagonal alone (docs/xfem.md, "Small cuts"). −1: the unknowns
+  /// are the end values.
+  int offset_end = -1;
 };
 
 /// Everything build_bar() derives from a BarDesc. Immutable after build.
@@ -128,7 +134,10 @@ struct BarModel {
   // interface spring (added as k·g gᵀ through gap_dof/gap_coeff).
   xfem::SymmetricBand mass;
   xfem::SymmetricBand stiffness;
-  std::vector<double> mass_row_sums;  ///< M·1: (M·1)ᵀa = 1ᵀMa, the net force on the bar
+  std::vector<double> mass_row_sums;  ///< M·r (r the unknowns of a rigid translation by 1): rᵀMa, the net force on the bar
+  /// The unknown that is an offset (BarCell::offset_end), 0 in a rigid
+  /// translation (every other unknown is 1 there); −1: none.
+  int offset_dof = -1;
   xfem::NewmarkScheme scheme;
   xfem::BandLdlt mass_factor;       ///< M alone, for a_0 (u is given there: the interface force goes to the right-hand side)
   /// M⁻¹ e_tip: the acceleration a unit tip force adds. bar_resolve_acceleration
@@ -141,7 +150,7 @@ struct BarModel {
   /// changes a by k·gap times this (the spring's force at the switch, about
   /// zero), instead of re-solving M a = f − C v − K u. Empty unless unilateral.
   std::vector<double> gap_unit_acceleration;
-  /// Unilateral only, for the energy rule of bar_step(): 1ᵀM1 (the bar's
+  /// Unilateral only, for the energy rule of bar_step(): rᵀMr (the bar's
   /// mass over its unknowns) and M⁻¹e_base (absorbing base; empty otherwise).
   double total_mass = 0.0;
   std::vector<double> base_unit_acceleration;
