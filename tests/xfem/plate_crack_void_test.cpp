@@ -37,7 +37,7 @@ struct Built {
 
 int cells_cut_by_both(const PlateModel& m) {
   int n = 0;
-  for (int c : m.cell_void_cut) n += c >= 0 ? 1 : 0;
+  for (int c : m.cell_second_cut) n += c >= 0 ? 1 : 0;
   return n;
 }
 
@@ -154,7 +154,7 @@ TEST(PlateCrackVoid, PiecesPartitionTheVoidAlonesMaterial) {
     int both = 0;
     for (int j = 0; j < 40; ++j)
       for (int i = 0; i < 40; ++i) {
-        if (a.m.cell_void_cut[static_cast<std::size_t>(j * 40 + i)] < 0) continue;
+        if (a.m.cell_second_cut[static_cast<std::size_t>(j * 40 + i)] < 0) continue;
         int sa = 0, sb = 0;
         const double with = area(a.m, i, j, sa), without = area(b.m, i, j, sb);
         std::printf("cell (%d, %d) cut by both: pieces' parent area %.17g, void alone %.17g, crack sides %d\n", i, j, with,

@@ -225,7 +225,7 @@ struct PlateModel {
   std::vector<int> cell_cut_by, cell_material;
   /// Per cell: the void that cuts it together with the crack cell_cut_by
   /// holds (a crack from a hole; −1 none). Sized with cell_cut_by.
-  std::vector<int> cell_void_cut;
+  std::vector<int> cell_second_cut;
   int cut_cells = 0;
   /// Elasticity and density of material 0 (the plate) and 1 + k (inclusion k).
   std::vector<std::array<double, 9>> material_elasticity;

@@ -388,8 +388,8 @@ struct CellView {
   double held[kMaxCellFunctions][2] = {};   ///< displacement of a held standard component (at make_view's time)
   double held_rate[2][kMaxCellFunctions][2] = {};  ///< its velocity [0] and acceleration [1] (moving ones; else 0)
   double phi[5] = {};        ///< the cutting discontinuity's level set at the nodes and the centre (mean)
-  int void_cut = -1;         ///< a void cutting the cell with the crack `cut` (−1 none)
-  double void_phi[5] = {};   ///< its level set at the nodes and the centre (mean)
+  int second_cut = -1;         ///< a void cutting the cell with the crack `cut` (−1 none)
+  double second_phi[5] = {};   ///< its level set at the nodes and the centre (mean)
   double x0[2] = {}, x1[2] = {};  ///< the cell's lower-left and upper-right corners, m
   bool plain = true;  ///< standard functions only, the plate's material, uncut (the fixed element matrices apply)
 };
@@ -516,11 +516,11 @@ void make_view(const PlateModel& m, int i, int j, CellView& v, double time = 0.0
     for (int a = 0; a < 4; ++a) mean += (v.phi[a] = phi_at(m, v.cut, v.en[a]));
     v.phi[4] = 0.25 * mean;
   }
-  v.void_cut = m.cell_void_cut.empty() ? -1 : m.cell_void_cut[static_cast<std::size_t>(v.cell)];
-  if (v.void_cut >= 0) {
+  v.second_cut = m.cell_second_cut.empty() ? -1 : m.cell_second_cut[static_cast<std::size_t>(v.cell)];
+  if (v.second_cut >= 0) {
     double mean = 0.0;
-    for (int a = 0; a < 4; ++a) mean += (v.void_phi[a] = phi_at(m, v.void_cut, v.en[a]));
-    v.void_phi[4] = 0.25 * mean;
+    for (int a = 0; a < 4; ++a) mean += (v.second_phi[a] = phi_at(m, v.second_cut, v.en[a]));
+    v.second_phi[4] = 0.25 * mean;
   }
   if (v.touch_tip >= 0 && v.cut >= 0) {
     // The tip's crack cuts the cell it touches: where its straight tip segment
@@ -764,25 +764,25 @@ int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece 
 
 /// The material part of a piece (side `piece.side` of the crack) of
 /// sub-triangle `tri` of a cell a void cuts too: the piece split along the
-/// void's level set, linear on the sub-triangle (values void_phi at its
+/// void's level set, linear on the sub-triangle (values second_phi at its
 /// nodes and the centre), the parts on the void's negative side (inside it)
 /// dropped by membership. Each part keeps the piece's crack side. Returns
 /// the number of parts written (0–3).
-int material_parts(const double void_phi[5], int tri, const xfem::TrianglePiece& piece, xfem::TrianglePiece out[3]) {
+int material_parts(const double second_phi[5], int tri, const xfem::TrianglePiece& piece, xfem::TrianglePiece out[3]) {
   double phi[3];
   const int b = (tri + 1) % 4;
   for (int c = 0; c < 3; ++c) {
     const Point2 x = piece.v[c];
     // The sub-triangle's own corners take their values exactly (the sign decides membership).
     if (x[0] == kXi[tri] && x[1] == kEta[tri]) {
-      phi[c] = void_phi[tri];
+      phi[c] = second_phi[tri];
     } else if (x[0] == kXi[b] && x[1] == kEta[b]) {
-      phi[c] = void_phi[b];
+      phi[c] = second_phi[b];
     } else if (x[0] == 0.0 && x[1] == 0.0) {
-      phi[c] = void_phi[4];
+      phi[c] = second_phi[4];
     } else {
       double gx = 0.0, gy = 0.0;
-      linear_on_triangle(tri, void_phi[tri], void_phi[b], void_phi[4], x[0], x[1], phi[c], gx, gy);
+      linear_on_triangle(tri, second_phi[tri], second_phi[b], second_phi[4], x[0], x[1], phi[c], gx, gy);
     }
   }
   xfem::TrianglePiece parts[3];
@@ -806,12 +806,12 @@ void for_each_material_piece(const PlateModel& m, const CellView& v, const xfem:
     const xfem::TrianglePiece& q = pieces[p];
     const int material = material_of(m, v, q.side);
     if (material < 0) continue;
-    if (v.void_cut < 0) {
+    if (v.second_cut < 0) {
       f(q, triangle[p], material);
       continue;
     }
     xfem::TrianglePiece parts[3];
-    const int made = material_parts(v.void_phi, triangle[p], q, parts);
+    const int made = material_parts(v.second_phi, triangle[p], q, parts);
     for (int r = 0; r < made; ++r) f(parts[r], triangle[p], material);
   }
 }
@@ -1769,7 +1769,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     }
     const auto ncells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     model.cell_cut_by.assign(ncells, -1);
-    model.cell_void_cut.assign(ncells, -1);
+    model.cell_second_cut.assign(ncells, -1);
     model.cell_material.assign(ncells, 0);
     // ---- crack tips: the ends strictly inside the domain ----------------------
     std::vector<char> has_tip(ndisc, 0), bounded(ndisc, 0);
@@ -1883,18 +1883,18 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             const int other = model.cell_cut_by[cell];
             if (other >= 0) {
               // A crack and a void may share a cell (a crack from a hole): the crack
-              // in cell_cut_by, the void in cell_void_cut.
+              // in cell_cut_by, the void in cell_second_cut.
               const PlateDiscontinuity& o = d.discontinuities[static_cast<std::size_t>(other)];
               const bool crack_void = (q.kind == PlateDiscontinuity::Kind::crack && o.kind == PlateDiscontinuity::Kind::hole) ||
                                       (q.kind == PlateDiscontinuity::Kind::hole && o.kind == PlateDiscontinuity::Kind::crack);
-              if (!crack_void || model.cell_void_cut[cell] >= 0)
+              if (!crack_void || model.cell_second_cut[cell] >= 0)
                 return BuildResult::failure(Code::invalid_argument,
                                             "discontinuities.%zu: '%s' and '%s' cut the same cell (%d, %d); this build "
                                             "allows one discontinuity per cell, or one crack and one void (refine the "
                                             "mesh or move them apart)",
                                             k, q.name.c_str(), o.name.c_str(), i, j);
               model.cell_cut_by[cell] = q.kind == PlateDiscontinuity::Kind::crack ? static_cast<int>(k) : other;
-              model.cell_void_cut[cell] = q.kind == PlateDiscontinuity::Kind::crack ? other : static_cast<int>(k);
+              model.cell_second_cut[cell] = q.kind == PlateDiscontinuity::Kind::crack ? other : static_cast<int>(k);
               continue;
             }
             model.cell_cut_by[cell] = static_cast<int>(k);
@@ -1913,7 +1913,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const auto cell = static_cast<std::size_t>(j * nx + i);
-        const int hv = model.cell_void_cut[cell];
+        const int hv = model.cell_second_cut[cell];
         if (hv < 0) continue;
         const int k = model.cell_cut_by[cell];
         const PlateDiscontinuity& q = d.discontinuities[static_cast<std::size_t>(k)];
@@ -2031,7 +2031,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 const double clo[2] = {xs(ci), ys(cj)}, chi[2] = {xs(ci + 1), ys(cj + 1)};
                 if (!polyline_meets_box(q.points, clo, chi, false)) continue;
               }
-              if (model.cell_cut_by[cell] == static_cast<int>(k) && model.cell_void_cut[cell] >= 0) {
+              if (model.cell_cut_by[cell] == static_cast<int>(k) && model.cell_second_cut[cell] >= 0) {
                 // Cut by the void too: only the sides with material outside it.
                 cut = true;
                 plus = plus || (void_sides[cell] & 1) != 0;
@@ -2465,12 +2465,12 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             }
             // A crossing or two vertices on the zero: either way two points.
             if (found < 2) continue;
-            if (view.void_cut >= 0 && view.cut == static_cast<int>(k)) {
+            if (view.second_cut >= 0 && view.cut == static_cast<int>(k)) {
               // A cell the void cuts too: the faces outside the void only (its φ_T ≥ 0).
               double vs[2];
               for (int c = 0; c < 2; ++c) {
                 double g0 = 0.0, g1 = 0.0;
-                linear_on_triangle(t, view.void_phi[t], view.void_phi[(t + 1) % 4], view.void_phi[4], seg[c][0], seg[c][1],
+                linear_on_triangle(t, view.second_phi[t], view.second_phi[(t + 1) % 4], view.second_phi[4], seg[c][0], seg[c][1],
                                    vs[c], g0, g1);
               }
               if (vs[0] < 0.0 && vs[1] < 0.0) continue;
