@@ -266,16 +266,20 @@ INSTANTIATE_TEST_SUITE_P(
                       "'continuum.max_enriched_dofs': the discontinuities need 270001 enriched unknowns, more than 200000"},
         PlateBadInput{"--set output.probes.0.quantity=stress_intensity --set output.probes.0.crack=none",
                       "scene key 'output.probes.0.crack': no crack named 'none'"},
-        // A cell may hold one crack and one void, not two cracks nor a crack and an inclusion.
+        // A cell may hold one crack and one void or inclusion, not two cracks; a
+        // crack tip's branch functions may not reach a cell a crack and an
+        // inclusion cut.
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[3,0.55]]},"
                       "{\"name\":\"c2\",\"type\":\"crack\",\"points\":[[1.05,-1],[1.05,2]]}]'",
                       "scene key 'continuum.discontinuities.1': 'c2' and 'c1' cut the same cell (10, 5); this build allows "
-                      "one discontinuity per cell, or one crack and one void (refine the mesh or move them apart)"},
-        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[3,0.55]]},"
+                      "one discontinuity per cell, or one crack and one void or inclusion (refine the mesh or move them "
+                      "apart)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[1.02,0.55]]},"
                       "{\"name\":\"i\",\"type\":\"inclusion\",\"circle\":{\"centre\":[0.8,0.55],\"radius\":0.23},"
                       "\"material\":{\"youngs_modulus\":1e9,\"poisson_ratio\":0.2,\"density\":1000}}]'",
-                      "scene key 'continuum.discontinuities.1': 'i' and 'c1' cut the same cell (5, 5); this build allows "
-                      "one discontinuity per cell, or one crack and one void (refine the mesh or move them apart)"}));
+                      "scene key 'continuum.discontinuities.0': a crack tip's branch functions reach the cell (10, 5) that "
+                      "the crack 'c1' and the inclusion 'i' both cut; this build needs a tip at least a cell from such a "
+                      "cell (refine the mesh or move the tip from the inclusion's boundary)"}));
 
 // A crack from a void (one cell cut by both): the plate alone runs, the same
 // bytes on one and two workers; a coupled scene with such a cell is refused
