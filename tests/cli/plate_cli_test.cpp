@@ -266,16 +266,53 @@ INSTANTIATE_TEST_SUITE_P(
                       "'continuum.max_enriched_dofs': the discontinuities need 270001 enriched unknowns, more than 200000"},
         PlateBadInput{"--set output.probes.0.quantity=stress_intensity --set output.probes.0.crack=none",
                       "scene key 'output.probes.0.crack': no crack named 'none'"},
-        // A cell may hold one crack and one void, not two cracks nor a crack and an inclusion.
+        // A cell may hold one crack and one void or inclusion, not two cracks; a
+        // crack tip's branch functions may not reach a cell a crack and an
+        // inclusion cut.
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[3,0.55]]},"
                       "{\"name\":\"c2\",\"type\":\"crack\",\"points\":[[1.05,-1],[1.05,2]]}]'",
                       "scene key 'continuum.discontinuities.1': 'c2' and 'c1' cut the same cell (10, 5); this build allows "
-                      "one discontinuity per cell, or one crack and one void (refine the mesh or move them apart)"},
-        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[3,0.55]]},"
+                      "one discontinuity per cell, or one crack and one void or inclusion (refine the mesh or move them "
+                      "apart)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[1.02,0.55]]},"
                       "{\"name\":\"i\",\"type\":\"inclusion\",\"circle\":{\"centre\":[0.8,0.55],\"radius\":0.23},"
                       "\"material\":{\"youngs_modulus\":1e9,\"poisson_ratio\":0.2,\"density\":1000}}]'",
-                      "scene key 'continuum.discontinuities.1': 'i' and 'c1' cut the same cell (5, 5); this build allows "
-                      "one discontinuity per cell, or one crack and one void (refine the mesh or move them apart)"}));
+                      "scene key 'continuum.discontinuities.0': a crack tip's branch functions reach the cell (10, 5) that "
+                      "the crack 'c1' and the inclusion 'i' both cut; this build needs a tip at least a cell from such a "
+                      "cell (refine the mesh or move the tip from the inclusion's boundary)"}));
+
+// A crack through an inclusion (cells cut by both; refused before the two
+// could share a cell): the plate alone runs, the same bytes on one and two
+// workers; a coupled scene with such a cell is refused with the key named.
+TEST(PlateCli, CrackThroughAnInclusionRunsAloneAndIsRefusedCoupled) {
+  const std::string disc =
+      " --set 'continuum.discontinuities=[{\"name\":\"c1\",\"type\":\"crack\",\"points\":[[-1,0.55],[3,0.55]]},"
+      "{\"name\":\"i\",\"type\":\"inclusion\",\"circle\":{\"centre\":[0.8,0.55],\"radius\":0.23},"
+      "\"material\":{\"youngs_modulus\":1e9,\"poisson_ratio\":0.2,\"density\":1000}}]'";
+  const std::string probes =
+      " --set 'output.probes=[{\"name\":\"u\",\"quantity\":\"displacement\",\"at\":[2,0.5],\"component\":0},"
+      "{\"name\":\"open\",\"quantity\":\"crack_opening\",\"crack\":\"c1\",\"at\":[0.8,0.55],\"component\":\"normal\"},"
+      "{\"name\":\"s\",\"quantity\":\"stress\",\"at\":[0.8,0.45],\"component\":\"xx\"}]'";
+  const fs::path a = scratch() / "crack_inclusion_one.csv", b = scratch() / "crack_inclusion_two.csv";
+  const Result one = run("run " + tension() + disc + probes + " --csv " + a.string());
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_EQ(run("run " + tension() + disc + probes + " --threads 2 --csv " + b.string()).exit_code, 0);
+  EXPECT_EQ(slurp(a), slurp(b));
+  const auto rows = lines(a);
+  ASSERT_GE(rows.size(), 2u);
+  for (std::size_t k = 1; k < rows.size(); ++k)
+    for (double v : values(rows[k])) EXPECT_TRUE(std::isfinite(v)) << rows[k];
+  const fs::path c = scratch() / "crack_inclusion_coupled.csv";
+  fs::remove(c);
+  const Result coupled = run("run " + xfdem::testing::scene_file("coupled2d_free_plate.json") +
+                             " --set continuum.cells=[20,10] --set 'output.probes=[]'" + disc + " --csv " + c.string());
+  EXPECT_NE(coupled.exit_code, 0);
+  EXPECT_NE(coupled.err.find("scene key 'continuum.discontinuities.0': the crack 'c1' and the inclusion 'i' cut the cell "
+                             "(5, 5); the coupled contact boundary allows one discontinuity per cell"),
+            std::string::npos)
+      << coupled.err;
+  EXPECT_FALSE(fs::exists(c));
+}
 
 // A crack from a void (one cell cut by both): the plate alone runs, the same
 // bytes on one and two workers; a coupled scene with such a cell is refused

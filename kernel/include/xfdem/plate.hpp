@@ -223,9 +223,10 @@ struct PlateModel {
   /// Per cell (c = j nx + i): the discontinuity that cuts it (−1 none); for an
   /// uncut cell, its material: 0 the plate's, 1 + k inclusion k's, −1 none (a hole).
   std::vector<int> cell_cut_by, cell_material;
-  /// Per cell: the void that cuts it together with the crack cell_cut_by
-  /// holds (a crack from a hole; −1 none). Sized with cell_cut_by.
-  std::vector<int> cell_void_cut;
+  /// Per cell: the void or the inclusion that cuts it together with the crack
+  /// cell_cut_by holds (a crack from a hole, a crack into an inclusion; −1
+  /// none). Sized with cell_cut_by.
+  std::vector<int> cell_second_cut;
   int cut_cells = 0;
   /// Elasticity and density of material 0 (the plate) and 1 + k (inclusion k).
   std::vector<std::array<double, 9>> material_elasticity;

@@ -200,17 +200,19 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
   if (!(std::isfinite(allowance) && allowance > 0))
     return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a positive length", allowance);
   // The contact boundary is built from one cut per cell: a cell cut by a
-  // crack and a void (a crack from a hole) is not traced yet. Named under
-  // "continuum." so that a coupled scene's loader names the plate's key.
-  for (std::size_t c = 0; c < m.cell_void_cut.size(); ++c)
-    if (m.cell_void_cut[c] >= 0) {
+  // crack and a void (a crack from a hole) or a crack and an inclusion is not
+  // traced yet. Named under "continuum." so that a coupled scene's loader
+  // names the plate's key.
+  for (std::size_t c = 0; c < m.cell_second_cut.size(); ++c)
+    if (m.cell_second_cut[c] >= 0) {
       const int nxc = m.desc.cells[0];
-      const int k = m.cell_cut_by[c], hv = m.cell_void_cut[c];
+      const int k = m.cell_cut_by[c], hv = m.cell_second_cut[c];
+      const PlateDiscontinuity& o = m.desc.discontinuities[static_cast<std::size_t>(hv)];
       return BuildResult::failure(Code::invalid_argument,
-                                  "continuum.discontinuities.%d: the crack '%s' and the void '%s' cut the cell (%d, %d); "
+                                  "continuum.discontinuities.%d: the crack '%s' and the %s '%s' cut the cell (%d, %d); "
                                   "the coupled contact boundary allows one discontinuity per cell",
                                   k, m.desc.discontinuities[static_cast<std::size_t>(k)].name.c_str(),
-                                  m.desc.discontinuities[static_cast<std::size_t>(hv)].name.c_str(),
+                                  o.kind == PlateDiscontinuity::Kind::hole ? "void" : "inclusion", o.name.c_str(),
                                   static_cast<int>(c) % nxc, static_cast<int>(c) / nxc);
     }
   out = PlateBoundary{};

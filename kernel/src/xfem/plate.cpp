@@ -388,8 +388,9 @@ struct CellView {
   double held[kMaxCellFunctions][2] = {};   ///< displacement of a held standard component (at make_view's time)
   double held_rate[2][kMaxCellFunctions][2] = {};  ///< its velocity [0] and acceleration [1] (moving ones; else 0)
   double phi[5] = {};        ///< the cutting discontinuity's level set at the nodes and the centre (mean)
-  int void_cut = -1;         ///< a void cutting the cell with the crack `cut` (−1 none)
-  double void_phi[5] = {};   ///< its level set at the nodes and the centre (mean)
+  int second_cut = -1;         ///< a void or an inclusion cutting the cell with the crack `cut` (−1 none)
+  bool second_inclusion = false;  ///< second_cut is an inclusion (its ridge on the cell's nodes, its material inside)
+  double second_phi[5] = {};   ///< its level set at the nodes and the centre (mean)
   double x0[2] = {}, x1[2] = {};  ///< the cell's lower-left and upper-right corners, m
   bool plain = true;  ///< standard functions only, the plate's material, uncut (the fixed element matrices apply)
 };
@@ -516,11 +517,13 @@ void make_view(const PlateModel& m, int i, int j, CellView& v, double time = 0.0
     for (int a = 0; a < 4; ++a) mean += (v.phi[a] = phi_at(m, v.cut, v.en[a]));
     v.phi[4] = 0.25 * mean;
   }
-  v.void_cut = m.cell_void_cut.empty() ? -1 : m.cell_void_cut[static_cast<std::size_t>(v.cell)];
-  if (v.void_cut >= 0) {
+  v.second_cut = m.cell_second_cut.empty() ? -1 : m.cell_second_cut[static_cast<std::size_t>(v.cell)];
+  v.second_inclusion = v.second_cut >= 0 && d.discontinuities[static_cast<std::size_t>(v.second_cut)].kind ==
+                                                 PlateDiscontinuity::Kind::inclusion;
+  if (v.second_cut >= 0) {
     double mean = 0.0;
-    for (int a = 0; a < 4; ++a) mean += (v.void_phi[a] = phi_at(m, v.void_cut, v.en[a]));
-    v.void_phi[4] = 0.25 * mean;
+    for (int a = 0; a < 4; ++a) mean += (v.second_phi[a] = phi_at(m, v.second_cut, v.en[a]));
+    v.second_phi[4] = 0.25 * mean;
   }
   if (v.touch_tip >= 0 && v.cut >= 0) {
     // The tip's crack cuts the cell it touches: where its straight tip segment
@@ -574,6 +577,11 @@ int point_side(const CellView& v, double xi, double eta) {
   return xfem::side_of(value);
 }
 
+/// The second discontinuity's level set interpolated linearly on sub-triangle t.
+void second_phi_on_triangle(const CellView& v, int t, double xi, double eta, double& value, double& g_xi, double& g_eta) {
+  linear_on_triangle(t, v.second_phi[t], v.second_phi[(t + 1) % 4], v.second_phi[4], xi, eta, value, g_xi, g_eta);
+}
+
 /// Every function of the cell and its gradient at (xi, eta), which lies in
 /// sub-triangle `tri` on side `side` of the cutting discontinuity (by
 /// membership, from the caller).
@@ -599,6 +607,25 @@ void evaluate(const PlateModel& m, const CellView& v, double xi, double eta, int
       ridge += n[b] * abs_phi;
       ridge_dx += dx[b] * abs_phi;
       ridge_dy += dy[b] * abs_phi;
+    }
+  }
+  // The ridge of an inclusion cutting the cell with a crack: the same, on the
+  // point's side of the inclusion (by position: the ridge is continuous
+  // across its zero, and a quadrature point off the zero by round-off only
+  // carries a weight of that size).
+  double ridge2 = 0.0, ridge2_dx = 0.0, ridge2_dy = 0.0;
+  if (v.second_inclusion) {
+    double value = 0.0, gx = 0.0, gy = 0.0;
+    second_phi_on_triangle(v, tri, xi, eta, value, gx, gy);
+    const double side2 = xfem::side_of(value);
+    ridge2 = -side2 * value;
+    ridge2_dx = -side2 * gx * sx;
+    ridge2_dy = -side2 * gy * sy;
+    for (int b = 0; b < 4; ++b) {
+      const double abs_phi = std::fabs(v.second_phi[b]);
+      ridge2 += n[b] * abs_phi;
+      ridge2_dx += dx[b] * abs_phi;
+      ridge2_dy += dy[b] * abs_phi;
     }
   }
   // The branch functions of the (at most four) tips of the cell's nodes at this point.
@@ -653,6 +680,10 @@ void evaluate(const PlateModel& m, const CellView& v, double xi, double eta, int
       const int h = k == v.cut ? side : uncut_side(m, k, v.en);
       const double psi = static_cast<double>(h - xfem::side_of(phi_at(m, k, v.en[a])));
       out.n[f] = n[a] * psi, out.dx[f] = dx[a] * psi, out.dy[f] = dy[a] * psi;
+    } else if (k == v.second_cut) {
+      out.n[f] = n[a] * ridge2;
+      out.dx[f] = dx[a] * ridge2 + n[a] * ridge2_dx;
+      out.dy[f] = dy[a] * ridge2 + n[a] * ridge2_dy;
     } else if (k == v.cut) {
       out.n[f] = n[a] * ridge;
       out.dx[f] = dx[a] * ridge + n[a] * ridge_dx;
@@ -683,6 +714,18 @@ int material_of(const PlateModel& m, const CellView& v, int side) {
     case PlateDiscontinuity::Kind::crack: break;
   }
   return v.material;
+}
+
+/// The material at point (xi, eta) of the cell on side `side` of its cut:
+/// material_of, but inside an inclusion that cuts the cell with a crack, the
+/// inclusion's.
+int material_at(const PlateModel& m, const CellView& v, double xi, double eta, int side) {
+  if (v.second_inclusion) {
+    double value = 0.0, gx = 0.0, gy = 0.0;
+    second_phi_on_triangle(v, triangle_of(xi, eta), xi, eta, value, gx, gy);
+    if (xfem::side_of(value) < 0) return 1 + v.second_cut;
+  }
+  return material_of(m, v, side);
 }
 
 // Gauss-Legendre, 5 points on [0, 1] (exact to degree 9).
@@ -762,43 +805,56 @@ int triangle_pieces(const PlateModel& m, const CellView& v, xfem::TrianglePiece 
   return count;
 }
 
-/// The material part of a piece (side `piece.side` of the crack) of
-/// sub-triangle `tri` of a cell a void cuts too: the piece split along the
-/// void's level set, linear on the sub-triangle (values void_phi at its
-/// nodes and the centre), the parts on the void's negative side (inside it)
-/// dropped by membership. Each part keeps the piece's crack side. Returns
-/// the number of parts written (0–3).
-int material_parts(const double void_phi[5], int tri, const xfem::TrianglePiece& piece, xfem::TrianglePiece out[3]) {
+/// The parts of a piece (side `piece.side` of the crack) of sub-triangle
+/// `tri` of a cell a void or an inclusion cuts too: the piece split along
+/// that one's level set, linear on the sub-triangle (values second_phi at its
+/// nodes and the centre), each part's side of it in `second_side` (by
+/// membership). Each part keeps the piece's crack side. Returns the number
+/// of parts written (1–3).
+int second_parts(const double second_phi[5], int tri, const xfem::TrianglePiece& piece, xfem::TrianglePiece out[3],
+                 int second_side[3]) {
   double phi[3];
   const int b = (tri + 1) % 4;
   for (int c = 0; c < 3; ++c) {
     const Point2 x = piece.v[c];
     // The sub-triangle's own corners take their values exactly (the sign decides membership).
     if (x[0] == kXi[tri] && x[1] == kEta[tri]) {
-      phi[c] = void_phi[tri];
+      phi[c] = second_phi[tri];
     } else if (x[0] == kXi[b] && x[1] == kEta[b]) {
-      phi[c] = void_phi[b];
+      phi[c] = second_phi[b];
     } else if (x[0] == 0.0 && x[1] == 0.0) {
-      phi[c] = void_phi[4];
+      phi[c] = second_phi[4];
     } else {
       double gx = 0.0, gy = 0.0;
-      linear_on_triangle(tri, void_phi[tri], void_phi[b], void_phi[4], x[0], x[1], phi[c], gx, gy);
+      linear_on_triangle(tri, second_phi[tri], second_phi[b], second_phi[4], x[0], x[1], phi[c], gx, gy);
     }
   }
-  xfem::TrianglePiece parts[3];
-  const int made = xfem::split_triangle(piece.v, phi, parts);
-  int count = 0;
+  const int made = xfem::split_triangle(piece.v, phi, out);
   for (int p = 0; p < made; ++p) {
-    if (parts[p].side < 0) continue;
-    out[count] = parts[p];
-    out[count++].side = piece.side;
+    second_side[p] = out[p].side;
+    out[p].side = piece.side;
   }
+  return made;
+}
+
+/// The material part of a piece of a cell a void cuts too (second_parts):
+/// the parts on the void's negative side (inside it) dropped. Returns the
+/// number of parts written (0–3).
+int material_parts(const double second_phi[5], int tri, const xfem::TrianglePiece& piece, xfem::TrianglePiece out[3]) {
+  xfem::TrianglePiece parts[3];
+  int second_side[3];
+  const int made = second_parts(second_phi, tri, piece, parts, second_side);
+  int count = 0;
+  for (int p = 0; p < made; ++p)
+    if (second_side[p] >= 0) out[count++] = parts[p];
   return count;
 }
 
 /// Calls f(piece, sub-triangle, material) for each piece of a cell that holds
-/// material: the pieces in a void are skipped, and in a cell the void cuts
-/// too, a crack's piece is split to its parts outside the void.
+/// material: the pieces in a void are skipped, and in a cell a void cuts
+/// too, a crack's piece is split to its parts outside the void; in a cell an
+/// inclusion cuts too, to its parts outside (the crack side's material) and
+/// inside (the inclusion's).
 template <class F>
 void for_each_material_piece(const PlateModel& m, const CellView& v, const xfem::TrianglePiece* pieces,
                              const int* triangle, int count, F&& f) {
@@ -806,12 +862,19 @@ void for_each_material_piece(const PlateModel& m, const CellView& v, const xfem:
     const xfem::TrianglePiece& q = pieces[p];
     const int material = material_of(m, v, q.side);
     if (material < 0) continue;
-    if (v.void_cut < 0) {
+    if (v.second_cut < 0) {
       f(q, triangle[p], material);
       continue;
     }
+    if (v.second_inclusion) {
+      xfem::TrianglePiece parts[3];
+      int second_side[3];
+      const int made = second_parts(v.second_phi, triangle[p], q, parts, second_side);
+      for (int r = 0; r < made; ++r) f(parts[r], triangle[p], second_side[r] < 0 ? 1 + v.second_cut : material);
+      continue;
+    }
     xfem::TrianglePiece parts[3];
-    const int made = material_parts(v.void_phi, triangle[p], q, parts);
+    const int made = material_parts(v.second_phi, triangle[p], q, parts);
     for (int r = 0; r < made; ++r) f(parts[r], triangle[p], material);
   }
 }
@@ -1060,7 +1123,7 @@ template <class F>
 void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegment& g, double h, bool graded, F&& f) {
   const double g3[3] = {0.5 * (1.0 - std::sqrt(0.6)), 0.5, 0.5 * (1.0 + std::sqrt(0.6))};
   const double w3[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
-  double breaks[3] = {0.0, 1.0, 1.0};
+  double breaks[4] = {0.0, 1.0, 1.0, 1.0};
   int pieces = 1;
   if (v.cut >= 0) {
     const double pa = v.phi[g.from], pb = v.phi[g.to];
@@ -1069,14 +1132,44 @@ void for_each_edge_point(const PlateModel& m, const CellView& v, const EdgeSegme
       pieces = 2;
     }
   }
+  // An inclusion cutting the cell with a crack: the side split where its level set crosses it too.
+  if (v.second_inclusion) {
+    const double qa = v.second_phi[g.from], qb = v.second_phi[g.to];
+    if ((qa < 0.0 && qb > 0.0) || (qa > 0.0 && qb < 0.0)) {
+      const double sq = qa / (qa - qb);
+      if (pieces == 1) {
+        breaks[1] = sq, breaks[2] = 1.0;
+      } else if (sq < breaks[1]) {
+        breaks[2] = breaks[1], breaks[1] = sq;
+      } else {
+        breaks[2] = sq;
+      }
+      breaks[3] = 1.0;
+      ++pieces;
+    }
+  }
   for (int pc = 0; pc < pieces; ++pc) {
     const double s0 = breaks[pc], s1 = breaks[pc + 1];
+    if (!(s1 > s0)) continue;
     int side = 1;
-    if (v.cut >= 0) {
-      const double pa = v.phi[g.from], pb = v.phi[g.to];
-      side = pieces == 2 ? xfem::side_of(pc == 0 ? pa : pb) : (pa < 0.0 || pb < 0.0 ? -1 : 1);
+    int material = 0;
+    if (!v.second_inclusion) {
+      if (v.cut >= 0) {
+        const double pa = v.phi[g.from], pb = v.phi[g.to];
+        side = pieces == 2 ? xfem::side_of(pc == 0 ? pa : pb) : (pa < 0.0 || pb < 0.0 ? -1 : 1);
+      }
+      material = material_of(m, v, side);
+    } else {
+      // Each piece's sides of the crack and of the inclusion: at its middle
+      // when the level set crosses the side, else as the side's nodes.
+      const double sm = 0.5 * (s0 + s1);
+      auto side_along = [&](double fa, double fb) {
+        if ((fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0)) return xfem::side_of(fa + sm * (fb - fa));
+        return fa < 0.0 || fb < 0.0 ? -1 : 1;
+      };
+      side = side_along(v.phi[g.from], v.phi[g.to]);
+      material = side_along(v.second_phi[g.from], v.second_phi[g.to]) < 0 ? 1 + v.second_cut : material_of(m, v, side);
     }
-    const int material = material_of(m, v, side);
     if (material < 0) continue;
     if (graded && v.tip_functions) {
       // Branch functions along the side: smooth but not polynomial, singular
@@ -1769,7 +1862,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     }
     const auto ncells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     model.cell_cut_by.assign(ncells, -1);
-    model.cell_void_cut.assign(ncells, -1);
+    model.cell_second_cut.assign(ncells, -1);
     model.cell_material.assign(ncells, 0);
     // ---- crack tips: the ends strictly inside the domain ----------------------
     std::vector<char> has_tip(ndisc, 0), bounded(ndisc, 0);
@@ -1882,19 +1975,19 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
           if (lo < 0.0 && hi > 0.0 && (!bounded[k] || polyline_meets_box(q.points, clo, chi, true))) {  // area on both sides
             const int other = model.cell_cut_by[cell];
             if (other >= 0) {
-              // A crack and a void may share a cell (a crack from a hole): the crack
-              // in cell_cut_by, the void in cell_void_cut.
+              // A crack and a void (a crack from a hole) or a crack and an inclusion
+              // (a crack into or across it) may share a cell: the crack in
+              // cell_cut_by, the other in cell_second_cut.
               const PlateDiscontinuity& o = d.discontinuities[static_cast<std::size_t>(other)];
-              const bool crack_void = (q.kind == PlateDiscontinuity::Kind::crack && o.kind == PlateDiscontinuity::Kind::hole) ||
-                                      (q.kind == PlateDiscontinuity::Kind::hole && o.kind == PlateDiscontinuity::Kind::crack);
-              if (!crack_void || model.cell_void_cut[cell] >= 0)
+              const bool pair = (q.kind == PlateDiscontinuity::Kind::crack) != (o.kind == PlateDiscontinuity::Kind::crack);
+              if (!pair || model.cell_second_cut[cell] >= 0)
                 return BuildResult::failure(Code::invalid_argument,
                                             "discontinuities.%zu: '%s' and '%s' cut the same cell (%d, %d); this build "
-                                            "allows one discontinuity per cell, or one crack and one void (refine the "
-                                            "mesh or move them apart)",
+                                            "allows one discontinuity per cell, or one crack and one void or inclusion "
+                                            "(refine the mesh or move them apart)",
                                             k, q.name.c_str(), o.name.c_str(), i, j);
               model.cell_cut_by[cell] = q.kind == PlateDiscontinuity::Kind::crack ? static_cast<int>(k) : other;
-              model.cell_void_cut[cell] = q.kind == PlateDiscontinuity::Kind::crack ? other : static_cast<int>(k);
+              model.cell_second_cut[cell] = q.kind == PlateDiscontinuity::Kind::crack ? other : static_cast<int>(k);
               continue;
             }
             model.cell_cut_by[cell] = static_cast<int>(k);
@@ -1908,17 +2001,35 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
     // (bit 1: +, bit 2: −), from the pieces as they are integrated; the crack's
     // part outside the void must be the crack itself (an end in the void whose
     // extension leaves the void in the same cell is refused), and neither a
-    // tip's branch functions nor the domain's edge may reach the cell.
+    // tip's branch functions nor the domain's edge may reach the cell. Cells
+    // cut by a crack and an inclusion: material on both sides of the crack
+    // (on the domain's edge too); a tip's branch functions may not reach them.
     std::vector<unsigned char> void_sides(ncells, 0);
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const auto cell = static_cast<std::size_t>(j * nx + i);
-        const int hv = model.cell_void_cut[cell];
+        const int hv = model.cell_second_cut[cell];
         if (hv < 0) continue;
         const int k = model.cell_cut_by[cell];
         const PlateDiscontinuity& q = d.discontinuities[static_cast<std::size_t>(k)];
         const char* crack = q.name.c_str();
         const char* hole = d.discontinuities[static_cast<std::size_t>(hv)].name.c_str();
+        if (d.discontinuities[static_cast<std::size_t>(hv)].kind == PlateDiscontinuity::Kind::inclusion) {
+          int en[4];
+          cell_nodes(nx, i, j, en);
+          bool tip_here = !model.cell_tip.empty() && model.cell_tip[cell] >= 0;
+          for (int a = 0; a < 4 && !model.node_tip.empty(); ++a)
+            tip_here = tip_here || model.node_tip[static_cast<std::size_t>(en[a])] >= 0;
+          if (tip_here)
+            return BuildResult::failure(Code::invalid_argument,
+                                        "discontinuities.%d: a crack tip's branch functions reach the cell (%d, %d) that "
+                                        "the crack '%s' and the inclusion '%s' both cut; this build needs a tip at least "
+                                        "a cell from such a cell (refine the mesh or move the tip from the inclusion's "
+                                        "boundary)",
+                                        k, i, j, crack, hole);
+          void_sides[cell] = 3;
+          continue;
+        }
         if (i == 0 || j == 0 || i == nx - 1 || j == ny - 1)
           return BuildResult::failure(Code::invalid_argument,
                                       "discontinuities.%d: the crack '%s' and the void '%s' cut the cell (%d, %d) on "
@@ -2031,8 +2142,10 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 const double clo[2] = {xs(ci), ys(cj)}, chi[2] = {xs(ci + 1), ys(cj + 1)};
                 if (!polyline_meets_box(q.points, clo, chi, false)) continue;
               }
-              if (model.cell_cut_by[cell] == static_cast<int>(k) && model.cell_void_cut[cell] >= 0) {
-                // Cut by the void too: only the sides with material outside it.
+              if (model.cell_second_cut[cell] == static_cast<int>(k)) {
+                cut = true;  // an inclusion cutting the cell with a crack
+              } else if (model.cell_cut_by[cell] == static_cast<int>(k) && model.cell_second_cut[cell] >= 0) {
+                // Cut by a void too: only the sides with material outside it (both with an inclusion).
                 cut = true;
                 plus = plus || (void_sides[cell] & 1) != 0;
                 minus = minus || (void_sides[cell] & 2) != 0;
@@ -2465,12 +2578,13 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             }
             // A crossing or two vertices on the zero: either way two points.
             if (found < 2) continue;
-            if (view.void_cut >= 0 && view.cut == static_cast<int>(k)) {
+            if (view.second_cut >= 0 && view.cut == static_cast<int>(k) &&
+                d.discontinuities[static_cast<std::size_t>(view.second_cut)].kind == PlateDiscontinuity::Kind::hole) {
               // A cell the void cuts too: the faces outside the void only (its φ_T ≥ 0).
               double vs[2];
               for (int c = 0; c < 2; ++c) {
                 double g0 = 0.0, g1 = 0.0;
-                linear_on_triangle(t, view.void_phi[t], view.void_phi[(t + 1) % 4], view.void_phi[4], seg[c][0], seg[c][1],
+                linear_on_triangle(t, view.second_phi[t], view.second_phi[(t + 1) % 4], view.second_phi[4], seg[c][0], seg[c][1],
                                    vs[c], g0, g1);
               }
               if (vs[0] < 0.0 && vs[1] < 0.0) continue;
@@ -2692,7 +2806,7 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
         locate_axis(d.min[1], d.max[1], ny, ld.at[1], cj, eta);
         make_view(model, ci, cj, view);
         const int side = point_side(view, xi, eta);
-        if (material_of(model, view, side) >= 0) add_basis(view, xi, eta, triangle_of(xi, eta), side, ld.value);
+        if (material_at(model, view, xi, eta, side) >= 0) add_basis(view, xi, eta, triangle_of(xi, eta), side, ld.value);
       } else if (ld.kind == PlateLoad::Kind::edge_traction) {
         const bool vertical = ld.edge == PlateEdge::left || ld.edge == PlateEdge::right;
         const int count = vertical ? ny : nx;
@@ -3260,7 +3374,7 @@ double field_at(const PlateModel& m, const PlateState& st, Field which, double x
   CellView v;
   make_view(m, i, j, v, st.time, &st);
   const int side = material_side(m, v, xi, eta);
-  if (material_of(m, v, side) < 0) return std::numeric_limits<double>::quiet_NaN();
+  if (material_at(m, v, xi, eta, side) < 0) return std::numeric_limits<double>::quiet_NaN();
   BasisAt basis;
   evaluate(m, v, xi, eta, triangle_of(xi, eta), side, basis);
   double s = 0.0;
@@ -3319,7 +3433,7 @@ double plate_stress(const PlateModel& m, const PlateState& s, double x, double y
   CellView v;
   make_view(m, i, j, v, s.time, &s);
   const int side = material_side(m, v, xi, eta);
-  const int material = material_of(m, v, side);
+  const int material = material_at(m, v, xi, eta, side);
   if (material < 0) return std::numeric_limits<double>::quiet_NaN();
   BasisAt basis;
   evaluate(m, v, xi, eta, triangle_of(xi, eta), side, basis);
