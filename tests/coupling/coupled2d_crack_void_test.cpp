@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "support/coupled2d_scenes.hpp"
@@ -270,4 +271,21 @@ TEST(Coupled2dCrackVoid, StepNeverAllocatesAndTwoWorkersGiveTheSameBits) {
     EXPECT_EQ(one.state.plate.u, two.state.plate.u);
     EXPECT_EQ(one.state.plate.v, two.state.plate.v);
   }
+}
+
+// The crack's line inside the void has no material either side: a disk
+// centred on it there is in the void and builds; centred on the crack's line
+// below the void (in the plate) it is refused, naming the key.
+TEST(Coupled2dCrackVoid, ADiskCentredOnTheCracksLineIsInTheVoidOnlyInsideIt) {
+  Coupled2dDesc d = free_plate_hit(DemIntegrator::symplectic_euler);
+  d.dem.particles[0].position = {kCrackX, kVoidY - 0.1};
+  Coupled2dWorld in_void;
+  const BuildResult r = in_void.build(d);
+  EXPECT_TRUE(r.ok()) << r.message;
+  d.dem.particles[0].position = {kCrackX, 0.3};
+  Coupled2dWorld in_plate;
+  const BuildResult refused = in_plate.build(d);
+  EXPECT_FALSE(refused.ok());
+  EXPECT_EQ(std::string(refused.message).rfind("dem.particles[0].position: its centre (0.52, 0.3) is inside the plate's material", 0), 0u)
+      << refused.message;
 }

@@ -391,3 +391,15 @@ TEST(PlateCrackVoid, RefusalsNameTheCombination) {
     }
   }
 }
+
+// Where a point lies: on the crack's line inside the void there is no
+// material either side (in the void, 2); on it outside the void, on a
+// discontinuity (1); on the void's boundary, 1; elsewhere in the void, 2.
+TEST(PlateCrackVoid, APointOnTheCracksLineInsideTheVoidIsInTheVoid) {
+  const PlateDesc d = vibrating_crack_from_a_void();  // the void about (1, 0.52), r = 0.23; the crack along y = 0.55 from x = 1.1
+  EXPECT_EQ(plate_point_region(d, 1.15, 0.55, 1e-9), 2);  // on the crack, inside the void
+  EXPECT_EQ(plate_point_region(d, 1.4, 0.55, 1e-9), 1);   // on the crack, in the plate
+  EXPECT_EQ(plate_point_region(d, 1.0, 0.52 - 0.23, 1e-9), 1);  // on the void's boundary
+  EXPECT_EQ(plate_point_region(d, 1.0, 0.45, 1e-9), 2);
+  EXPECT_EQ(plate_point_region(d, 1.4, 0.3, 1e-9), 0);
+}
