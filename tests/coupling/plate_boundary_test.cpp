@@ -865,3 +865,42 @@ TEST(PlateBoundary, ACrackFromAVoidClosesOneLoopWhereverItLeavesTheVoid) {
               built, cut_cells, worst_area);
   EXPECT_GE(built, 100);
 }
+
+// The same crack from the rectangular void with tied faces: no face is a
+// contact surface, and the floor's two pieces end at their own vertices
+// where the crack leaves the void (the chain broken there, as at a tied
+// crack's mouth on the outer edge).
+TEST(PlateBoundary, ATiedCrackFromAVoidLeavesTheFloorsPiecesOpenAtItsMouth) {
+  PlateDesc d = free_plate(16, 8);
+  PlateDiscontinuity hole;
+  hole.name = "hole";
+  hole.kind = PlateDiscontinuity::Kind::hole;
+  hole.shape = PlateDiscontinuity::Shape::polygon;
+  hole.points = {{0.8, 0.3}, {1.3, 0.3}, {1.3, 0.7}, {0.8, 0.7}};
+  d.discontinuities.push_back(hole);
+  const double xc = 1.07, floor_y = 0.3;
+  PlateDiscontinuity crack = vertical_crack(xc);
+  crack.points = {{xc, 0.5}, {xc, -0.2}};
+  crack.faces = PlateDiscontinuity::Faces::tied;
+  crack.stiffness[0] = crack.stiffness[1] = 1e12;
+  d.discontinuities.push_back(crack);
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  int faces = 0, at_p = 0;
+  for (const PlateBoundarySegment& s : pb.segments) {
+    const double* xa = pb.vertices[static_cast<std::size_t>(s.a)].x;
+    const double* xb = pb.vertices[static_cast<std::size_t>(s.b)].x;
+    if (std::fabs(xa[0] - xc) < 1e-12 && std::fabs(xb[0] - xc) < 1e-12) ++faces;
+  }
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    if (std::hypot(v.x[0] - xc, v.x[1] - floor_y) > 1e-12) continue;
+    ++at_p;
+    // The + piece ends there, the − piece starts there: one segment each.
+    EXPECT_EQ(v.at.side > 0, v.prev >= 0 && v.next < 0);
+    EXPECT_EQ(v.at.side < 0, v.next >= 0 && v.prev < 0);
+  }
+  std::printf("tied crack from a void: %d face segments, %d vertices where it leaves the void\n", faces, at_p);
+  EXPECT_EQ(faces, 0);
+  EXPECT_EQ(at_p, 2);
+}
