@@ -1,9 +1,11 @@
 // The plate's boundary for disk contact: the outer edges as a closed chain
 // (broken at a crack's mouth), the closest point of a disk against the
 // brute-force distance to every segment, one contact with a continuous
-// overlap across joints (flat and bent), and the spreading of a contact
-// force to the plate's unknowns: for every rigid motion the generalised
-// forces do the work the force does at the contact point (force and moment).
+// overlap across joints (flat and bent), a crack from a void (the void's
+// boundary on each side of the crack, the faces outside the void), and the
+// spreading of a contact force to the plate's unknowns: for every rigid
+// motion the generalised forces do the work the force does at the contact
+// point (force and moment).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -681,4 +683,224 @@ TEST(PlateBoundary, AContactsForceDoesTheWorkOfItsPointsMotion) {
   // ε·1e3 of relative round-off, with a margin.
   EXPECT_LT(worst, 1e-12 * largest);
   EXPECT_GT(point_spread_worst, 1e-6 * largest);  // the identity is not one every spread meets
+}
+
+// A crack from a void: a rectangular void [0.8, 1.3] × [0.3, 0.7] and a
+// straight crack from inside it (x = 1.07, in a column of cells and off its
+// cells' centres) down through the bottom edge, on 16 × 8 cells (h = 0.125).
+// Below the void's floor (the nearest of its sides there) both level sets
+// are linear, so in the cell both cut, (8, 2) = [1, 1.125] × [0.25, 0.375],
+// the traced segments are exactly: the floor y = 0.3 clipped to each side of
+// the crack (in pieces where the cell's sub-triangles meet; the material
+// below it on the left: walked towards −x), and the crack's two faces from
+// the floor down to the cell's lower edge (the + face, x > 1.07, walked
+// downwards; the − face upwards), each face chained to its side's piece of
+// the floor at the point P where the crack leaves the void. No segment lies
+// in the cells wholly inside the void that the crack runs through, or on the
+// crack's line above the floor, and the boundary is one closed loop (the
+// slot joins the void to the outer edge).
+TEST(PlateBoundary, ACrackFromAVoidIsTheVoidsBoundaryOnEachSideAndTheFacesOutsideIt) {
+  PlateDesc d = free_plate(16, 8);
+  PlateDiscontinuity hole;
+  hole.name = "hole";
+  hole.kind = PlateDiscontinuity::Kind::hole;
+  hole.shape = PlateDiscontinuity::Shape::polygon;
+  hole.points = {{0.8, 0.3}, {1.3, 0.3}, {1.3, 0.7}, {0.8, 0.7}};
+  d.discontinuities.push_back(hole);
+  const double xc = 1.07, floor_y = 0.3, x0 = 1.0, x1 = 1.125, y0 = 0.25;  // the crack; the floor; the cell
+  PlateDiscontinuity crack = vertical_crack(xc);
+  crack.points = {{xc, 0.5}, {xc, -0.2}};  // downwards: its left (+ side) is x > xc
+  d.discontinuities.push_back(crack);
+  Built b;
+  build(d, 0.05, b);
+  ASSERT_EQ(b.model.cell_second_cut[2 * 16 + 8], 0);  // the cell both cut
+  const PlateBoundary& pb = b.boundary;
+  // In the cell: the floor's pieces (split where the cell's sub-triangles
+  // meet) and the faces, each checked against the closed form; their lengths
+  // summed per side and kind.
+  double floor_length[2] = {0, 0}, face_length[2] = {0, 0}, worst = 0;
+  int in_cell = 0, faces = 0;
+  for (std::size_t k = 0; k < pb.segments.size(); ++k) {
+    const PlateBoundarySegment& s = pb.segments[k];
+    const PlateBoundaryVertex& va = pb.vertices[static_cast<std::size_t>(s.a)];
+    const PlateBoundaryVertex& vb = pb.vertices[static_cast<std::size_t>(s.b)];
+    // Nothing in the cells wholly inside the void, nothing on the crack's line above the floor.
+    EXPECT_GE(b.model.cell_material[static_cast<std::size_t>(s.cell[1] * 16 + s.cell[0])], 0) << "segment " << k;
+    if (std::fabs(va.x[0] - xc) < 1e-12 && std::fabs(vb.x[0] - xc) < 1e-12) {
+      EXPECT_LE(std::max(va.x[1], vb.x[1]), floor_y + 1e-12) << "segment " << k << " on the crack's line";
+    }
+    if (s.cell[0] != 8 || s.cell[1] != 2) continue;
+    ++in_cell;
+    // A vertex made by this cell is on the segment's side (one on the cell's
+    // edge may be the neighbour's point there, where the field is the same).
+    for (const PlateBoundaryVertex* v : {&va, &vb})
+      if (v->at.cell[0] == 8 && v->at.cell[1] == 2) {
+        EXPECT_EQ(v->at.side, s.side) << "segment " << k;
+      }
+    const int side = s.side > 0 ? 1 : 0;
+    if (std::fabs(va.x[1] - floor_y) < 1e-9 && std::fabs(vb.x[1] - floor_y) < 1e-9) {
+      // A piece of the floor: on its side of the crack, walked towards −x.
+      worst = std::max({worst, std::fabs(va.x[1] - floor_y), std::fabs(vb.x[1] - floor_y)});
+      EXPECT_LT(vb.x[0], va.x[0]) << "segment " << k;
+      if (s.side > 0) {
+        EXPECT_GE(vb.x[0], xc - 1e-15) << "segment " << k;
+      } else {
+        EXPECT_LE(va.x[0], xc + 1e-15) << "segment " << k;
+      }
+      floor_length[side] += va.x[0] - vb.x[0];
+    } else {
+      // A face: on the crack's line, below the floor; the + face downwards.
+      ++faces;
+      worst = std::max({worst, std::fabs(va.x[0] - xc), std::fabs(vb.x[0] - xc)});
+      EXPECT_EQ(vb.x[1] < va.x[1], s.side > 0) << "segment " << k;
+      face_length[side] += std::fabs(vb.x[1] - va.x[1]);
+    }
+    // The segment's parent coordinates are its ends' points.
+    for (int end = 0; end < 2; ++end) {
+      const double px = x0 + (x1 - x0) * 0.5 * (1.0 + s.xi[end]), py = y0 + (x1 - x0) * 0.5 * (1.0 + s.eta[end]);
+      const double* x = end == 0 ? va.x : vb.x;
+      worst = std::max({worst, std::fabs(px - x[0]), std::fabs(py - x[1])});
+    }
+  }
+  std::printf("crack from a void: %d segments in the cell both cut (%d faces); the floor's pieces %.17g m (−) and "
+              "%.17g m (+), the faces %.17g m and %.17g m; off the closed form by %.3g m\n",
+              in_cell, faces, floor_length[0], floor_length[1], face_length[0], face_length[1], worst);
+  EXPECT_EQ(faces, 2);
+  EXPECT_NEAR(floor_length[0], xc - x0, 1e-15);  // the floor from the cell's left edge to the crack
+  EXPECT_NEAR(floor_length[1], x1 - xc, 1e-15);  // ... from the crack to the cell's right edge
+  EXPECT_NEAR(face_length[0], floor_y - y0, 1e-15);  // each face from the cell's lower edge to the floor
+  EXPECT_NEAR(face_length[1], floor_y - y0, 1e-15);
+  EXPECT_LT(worst, 1e-15);
+  // Each face goes on from its side's piece of the floor: one vertex per side
+  // where the crack leaves the void.
+  int p_plus = -1, p_minus = -1;
+  for (std::size_t v = 0; v < pb.vertices.size(); ++v)
+    if (std::hypot(pb.vertices[v].x[0] - xc, pb.vertices[v].x[1] - floor_y) < 1e-12)
+      (pb.vertices[v].at.side > 0 ? p_plus : p_minus) = static_cast<int>(v);
+  ASSERT_GE(p_plus, 0);
+  ASSERT_GE(p_minus, 0);
+  EXPECT_NE(p_plus, p_minus);
+  for (const int p : {p_plus, p_minus}) {
+    EXPECT_GE(pb.vertices[static_cast<std::size_t>(p)].prev, 0);
+    EXPECT_GE(pb.vertices[static_cast<std::size_t>(p)].next, 0);
+  }
+  EXPECT_EQ(pb.vertices.size(), pb.segments.size());  // every chain closed
+  EXPECT_EQ(loop_areas(pb).size(), 1u);               // one loop: the slot joins the void to the outer edge
+  // Opening the crack (the x of every Heaviside unknown) parts the two sides'
+  // pieces: each vertex moves with its own side's field, the − side's by
+  // −2e-3 relative to the + side's.
+  std::vector<double> u(static_cast<std::size_t>(b.model.dofs), 0.0);
+  for (int n = 0; n < b.model.nodes; ++n)
+    for (int s = 0; s < 2; ++s) {
+      if (b.model.node_enrichment[static_cast<std::size_t>(2 * n + s)] != 1) continue;
+      const int dof = b.model.enriched_dof[static_cast<std::size_t>(2 * (2 * n + s))];
+      if (dof >= 0) u[static_cast<std::size_t>(dof)] = 1e-3;
+    }
+  plate_boundary_positions(b.model, b.boundary, u.data(), 0.0, b.positions.data());
+  const double jump = b.positions[2 * static_cast<std::size_t>(p_plus)] - b.positions[2 * static_cast<std::size_t>(p_minus)];
+  std::printf("- opened by the Heaviside unknowns: the two sides' vertices where the crack leaves the void part by "
+              "%.17g m (2e-3)\n",
+              jump);
+  // Each side's field sums at most 12 terms of at most 2e-3, each within
+  // half an ulp (2.2e-19): the jump is 2e-3 within 5e-18.
+  EXPECT_NEAR(jump, 2e-3, 5e-18);
+}
+
+// A crack from a void wherever it leaves it: 200 placements from a fixed
+// seed (a circular void of radius 0.1–0.3 m about a point of [0.5, 1.5] ×
+// [0.35, 0.65], a straight free crack from its centre out through the
+// domain's edge in any direction, 16 × 8 cells). Each plate that builds
+// (the plate refuses a cell both cut on the domain's edge) has a boundary
+// whose chains all close into one loop (the crack joins the void's loop to
+// the outer one) of the material's area to O(h²) (the void's polygon), and
+// in every cell both cut the crack's faces lie outside the void.
+TEST(PlateBoundary, ACrackFromAVoidClosesOneLoopWhereverItLeavesTheVoid) {
+  std::mt19937_64 rng(20261129);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  int built = 0, cut_cells = 0;
+  double worst_area = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double r = 0.1 + 0.2 * u01(rng), xc = 0.5 + u01(rng), yc = 0.35 + 0.3 * u01(rng);
+    const double a = 2.0 * M_PI * u01(rng);
+    PlateDesc d = free_plate(16, 8);
+    d.discontinuities.push_back(circular_void(xc, yc, r));
+    PlateDiscontinuity crack = vertical_crack(0.0);
+    crack.points = {{xc, yc}, {xc + 3.0 * std::cos(a), yc + 3.0 * std::sin(a)}};
+    d.discontinuities.push_back(crack);
+    PlateModel m;
+    PlateState s;
+    PlateWorkspace ws;
+    if (!build_plate(d, m, s, ws).ok()) continue;
+    ++built;
+    PlateBoundary pb;
+    const BuildResult rb = plate_boundary_build(m, 0.05, 0.1, pb);
+    ASSERT_TRUE(rb.ok()) << "placement " << k << ": " << rb.message;
+    EXPECT_EQ(pb.vertices.size(), pb.segments.size()) << "placement " << k;
+    for (const PlateBoundaryVertex& v : pb.vertices) {
+      EXPECT_GE(v.prev, 0) << "placement " << k;
+      EXPECT_GE(v.next, 0) << "placement " << k;
+    }
+    const std::vector<double> areas = loop_areas(pb);
+    EXPECT_EQ(areas.size(), 1u) << "placement " << k;
+    const double h = 0.125;
+    if (!areas.empty()) {
+      worst_area = std::max(worst_area, std::fabs(areas[0] - (2.0 - M_PI * r * r)));
+      EXPECT_NEAR(areas[0], 2.0 - M_PI * r * r, 0.5 * M_PI * h * h) << "placement " << k;  // as the void's loop
+    }
+    for (std::size_t c = 0; c < m.cell_second_cut.size(); ++c)
+      if (m.cell_second_cut[c] >= 0) ++cut_cells;
+    for (const PlateBoundarySegment& sg : pb.segments) {
+      const std::size_t c = static_cast<std::size_t>(sg.cell[1] * 16 + sg.cell[0]);
+      if (m.cell_second_cut[c] < 0) continue;
+      const double* xa = pb.vertices[static_cast<std::size_t>(sg.a)].x;
+      const double* xb = pb.vertices[static_cast<std::size_t>(sg.b)].x;
+      const double mx = 0.5 * (xa[0] + xb[0]) - xc, my = 0.5 * (xa[1] + xb[1]) - yc;
+      // Every segment's middle is on or outside the void's polygon, within
+      // its distance h²/(8r) from the circle inside.
+      EXPECT_GT(std::hypot(mx, my), r - h * h / r) << "placement " << k;
+    }
+  }
+  std::printf("crack from a void: %d of 200 placements built, %d cells both cut; every chain closed, one loop each, "
+              "area within %.3g m² of the plate's less the circle\n",
+              built, cut_cells, worst_area);
+  EXPECT_GE(built, 100);
+}
+
+// The same crack from the rectangular void with tied faces: no face is a
+// contact surface, and the floor's two pieces end at their own vertices
+// where the crack leaves the void (the chain broken there, as at a tied
+// crack's mouth on the outer edge).
+TEST(PlateBoundary, ATiedCrackFromAVoidLeavesTheFloorsPiecesOpenAtItsMouth) {
+  PlateDesc d = free_plate(16, 8);
+  PlateDiscontinuity hole;
+  hole.name = "hole";
+  hole.kind = PlateDiscontinuity::Kind::hole;
+  hole.shape = PlateDiscontinuity::Shape::polygon;
+  hole.points = {{0.8, 0.3}, {1.3, 0.3}, {1.3, 0.7}, {0.8, 0.7}};
+  d.discontinuities.push_back(hole);
+  const double xc = 1.07, floor_y = 0.3;
+  PlateDiscontinuity crack = vertical_crack(xc);
+  crack.points = {{xc, 0.5}, {xc, -0.2}};
+  crack.faces = PlateDiscontinuity::Faces::tied;
+  crack.stiffness[0] = crack.stiffness[1] = 1e12;
+  d.discontinuities.push_back(crack);
+  Built b;
+  build(d, 0.05, b);
+  const PlateBoundary& pb = b.boundary;
+  int faces = 0, at_p = 0;
+  for (const PlateBoundarySegment& s : pb.segments) {
+    const double* xa = pb.vertices[static_cast<std::size_t>(s.a)].x;
+    const double* xb = pb.vertices[static_cast<std::size_t>(s.b)].x;
+    if (std::fabs(xa[0] - xc) < 1e-12 && std::fabs(xb[0] - xc) < 1e-12) ++faces;
+  }
+  for (const PlateBoundaryVertex& v : pb.vertices) {
+    if (std::hypot(v.x[0] - xc, v.x[1] - floor_y) > 1e-12) continue;
+    ++at_p;
+    // The + piece ends there, the − piece starts there: one segment each.
+    EXPECT_EQ(v.at.side > 0, v.prev >= 0 && v.next < 0);
+    EXPECT_EQ(v.at.side < 0, v.next >= 0 && v.prev < 0);
+  }
+  std::printf("tied crack from a void: %d face segments, %d vertices where it leaves the void\n", faces, at_p);
+  EXPECT_EQ(faces, 0);
+  EXPECT_EQ(at_p, 2);
 }

@@ -493,6 +493,6 @@ TEST(PlateCrackInclusion, RefusalsNameTheCombination) {
     const BuildResult rb = plate_boundary_build(p.m, 1e-3, 0.05, b);
     EXPECT_FALSE(rb.ok());
     EXPECT_EQ(std::string(rb.message), "continuum.discontinuities.0: the crack 'c1' and the inclusion 'inclusion' cut "
-                                       "the cell (2, 4); the coupled contact boundary allows one discontinuity per cell");
+                                       "the cell (2, 4); the coupled contact boundary allows one crack and one void per cell");
   }
 }

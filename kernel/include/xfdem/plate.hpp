@@ -501,7 +501,8 @@ void plate_stress_intensity(const PlateModel& model, const PlateState& state, in
                             double k[2], bool inertia = true);
 
 /// Where a point lies: −1 outside the domain, 0 in material, 1 on a
-/// discontinuity (within `tolerance` of it, by its exact level set), 2 in a hole.
+/// discontinuity (within `tolerance` of it, by its exact level set), 2 in a
+/// hole (a point on a crack's line inside a hole too: no material there).
 int plate_point_region(const PlateDesc& desc, double x, double y, double tolerance);
 
 /// Q4 element matrices of a rectangle hx × hy (2×2 Gauss, exact for it):

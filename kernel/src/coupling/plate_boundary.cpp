@@ -35,9 +35,11 @@ void crossing(double p0, double p1, double xi0, double eta0, double xi1, double 
 
 /// A crossing of a void's boundary or a crack's face with an edge: a cell
 /// edge (its two nodes, the smaller first) or a sub-triangle's inner edge
-/// (cell, corner), and the side whose material the vertex belongs to: the
-/// vertex every segment through it shares.
-using EdgeKey = std::tuple<int, int, int, int>;  // (0, node, node, side) or (1, cell, corner, side)
+/// (cell, corner), the discontinuity whose zero line crosses it, and the
+/// side whose material the vertex belongs to: the vertex every segment
+/// through it shares. In a cell cut by a crack and a void, where the crack
+/// meets the void's boundary inside sub-triangle t: (2, cell, t, crack, side).
+using EdgeKey = std::tuple<int, int, int, int, int>;  // (0, node, node, disc, side), (1, cell, corner, disc, side)
 
 /// The tip of crack `cut` that cell `cell` holds, or nullptr.
 const PlateModel::Tip* tip_of_cell(const PlateModel& m, int cell, int cut) {
@@ -120,11 +122,9 @@ struct Walker {
     const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
     const PlateModel::Tip* tip = cut >= 0 ? tip_of_cell(m, cell, cut) : nullptr;
     const double xi0 = kXi[from], eta0 = kEta[from], xi1 = kXi[to], eta1 = kEta[to];
-    if (cut < 0) {
-      const int material = m.cell_material.empty() ? 0 : m.cell_material[static_cast<std::size_t>(cell)];
-      if (material < 0) return brk();  // a hole's cell: no material on this edge
-      return add_segment(i, j, xi0, eta0, xi1, eta1, 1);
-    }
+    const int material = m.cell_material.empty() ? 0 : m.cell_material[static_cast<std::size_t>(cell)];
+    if (material < 0) return brk();  // a hole's cell (a crack may run through it): no material on this edge
+    if (cut < 0) return add_segment(i, j, xi0, eta0, xi1, eta1, 1);
     // The cutting level set is linear along a cell edge (an edge of a sub-triangle).
     auto node = [&](int corner) {
       const int di = (corner == 1 || corner == 2) ? 1 : 0, dj = corner >= 2 ? 1 : 0;
@@ -148,17 +148,78 @@ struct Walker {
     const int lo = std::min(node(from), node(to)), hi = std::max(node(from), node(to));
     if (has_material(s0)) {
       add_segment(i, j, xi0, eta0, xim, etam, s0);
-      crossings[EdgeKey{0, lo, hi, s0}] = last;  // a void's boundary or a crack's face goes on from here
+      crossings[EdgeKey{0, lo, hi, cut, s0}] = last;  // a void's boundary or a crack's face goes on from here
     }
     // A crack opens at the crossing: each face ends in a vertex of its own
     // side. An inclusion's field is continuous there: the chain goes on.
     if (kind != PlateDiscontinuity::Kind::inclusion) brk();
     if (has_material(s1)) {
       add_segment(i, j, xim, etam, xi1, eta1, s1);
-      crossings[EdgeKey{0, lo, hi, s1}] = out.segments.back().a;  // ... and ends here
+      crossings[EdgeKey{0, lo, hi, cut, s1}] = out.segments.back().a;  // ... and ends here
     }
   }
 };
+
+/// The zero line of a cell's level set in one of its sub-triangles (the
+/// level set is linear there: its values at the cell's corners and at the
+/// centre, their mean).
+struct Chord {
+  double xi[2] = {0, 0}, eta[2] = {0, 0};  ///< its crossings of the triangle's edges (parent coordinates)
+  EdgeKey key[2];                          ///< theirs (the side left to the caller)
+  double g[2] = {0, 0};                    ///< the level set's gradient on the triangle (physical)
+};
+
+/// The chord of discontinuity `disc`'s level set (values phi at the corners
+/// of cell `cell`, natural nodes `nodes`, and at its centre) in sub-triangle
+/// t (corners t, t + 1 and the centre). False where it does not cross it.
+bool chord(const PlateModel& m, int cell, const int nodes[4], const double phi[5], int t, int disc, Chord& c) {
+  const int corner[3] = {t, (t + 1) % 4, 4};
+  const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
+  int points = 0;
+  for (int e = 0; e < 3; ++e) {
+    const int a = e, b = (e + 1) % 3;
+    const double fa = phi[corner[a]], fb = phi[corner[b]];
+    if (xfem::side_of(fa) == xfem::side_of(fb) || points == 2) continue;
+    // Order the ends as the key does, so both cells (or triangles) agree.
+    const bool outer = corner[a] < 4 && corner[b] < 4;
+    const int ka = corner[a] < 4 ? nodes[corner[a]] : -1, kb = corner[b] < 4 ? nodes[corner[b]] : -1;
+    if (outer) {
+      crossing(fa, fb, pxi[a], peta[a], pxi[b], peta[b], ka, kb, c.xi[points], c.eta[points]);
+      c.key[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb), disc, 0};
+    } else {
+      // An inner edge: from its cell corner to the centre.
+      const int cc = corner[a] < 4 ? a : b, z = corner[a] < 4 ? b : a;
+      crossing(phi[corner[cc]], phi[4], pxi[cc], peta[cc], pxi[z], peta[z], 0, 1, c.xi[points], c.eta[points]);
+      c.key[points] = EdgeKey{1, cell, corner[cc], disc, 0};
+    }
+    ++points;
+  }
+  if (points != 2) return false;
+  // φ's gradient on the triangle (parent coordinates, then physical).
+  const double x0 = pxi[0] - pxi[2], y0 = peta[0] - peta[2], x1 = pxi[1] - pxi[2], y1 = peta[1] - peta[2];
+  const double r0 = phi[corner[0]] - phi[4], r1 = phi[corner[1]] - phi[4];
+  const double det = x0 * y1 - x1 * y0;
+  c.g[0] = (r0 * y1 - r1 * y0) / det / m.cell_size[0], c.g[1] = (x0 * r1 - x1 * r0) / det / m.cell_size[1];
+  return true;
+}
+
+/// The end of a chord that a segment with side `side`'s material on its left
+/// starts from: the direction with the material (φ ≥ 0) on the left is
+/// (g_y, −g_x); a crack's − face runs the other way.
+int chord_first(const PlateModel& m, const Chord& c, int side) {
+  const double dx = (c.xi[1] - c.xi[0]) * m.cell_size[0], dy = (c.eta[1] - c.eta[0]) * m.cell_size[1];
+  return (dx * c.g[1] - dy * c.g[0] >= 0) == (side > 0) ? 0 : 1;
+}
+
+/// A level set linear on sub-triangle t (values phi at the cell's corners
+/// and centre) at parent point (xi, eta), as the plate evaluates it.
+double on_triangle(const double phi[5], int t, double xi, double eta) {
+  const int a = t, b = (t + 1) % 4;
+  const double x0 = kXi[a], y0 = kEta[a], x1 = kXi[b], y1 = kEta[b];
+  const double r0 = phi[a] - phi[4], r1 = phi[b] - phi[4];
+  const double det = x0 * y1 - x1 * y0;
+  return phi[4] + (r0 * y1 - r1 * y0) / det * xi + (x0 * r1 - x1 * r0) / det * eta;
+}
 
 inline double dot(const double a[2], const double b[2]) { return a[0] * b[0] + a[1] * b[1]; }
 
@@ -199,20 +260,19 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
                                 max_radius);
   if (!(std::isfinite(allowance) && allowance > 0))
     return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a positive length", allowance);
-  // The contact boundary is built from one cut per cell: a cell cut by a
-  // crack and a void (a crack from a hole) or a crack and an inclusion is not
-  // traced yet. Named under "continuum." so that a coupled scene's loader
-  // names the plate's key.
+  // A cell cut by a crack and a void (a crack from a hole) is traced below; a
+  // cell cut by a crack and an inclusion is not traced yet. Named under
+  // "continuum." so that a coupled scene's loader names the plate's key.
   for (std::size_t c = 0; c < m.cell_second_cut.size(); ++c)
-    if (m.cell_second_cut[c] >= 0) {
+    if (m.cell_second_cut[c] >= 0 &&
+        m.desc.discontinuities[static_cast<std::size_t>(m.cell_second_cut[c])].kind != PlateDiscontinuity::Kind::hole) {
       const int nxc = m.desc.cells[0];
       const int k = m.cell_cut_by[c], hv = m.cell_second_cut[c];
       const PlateDiscontinuity& o = m.desc.discontinuities[static_cast<std::size_t>(hv)];
       return BuildResult::failure(Code::invalid_argument,
-                                  "continuum.discontinuities.%d: the crack '%s' and the %s '%s' cut the cell (%d, %d); "
-                                  "the coupled contact boundary allows one discontinuity per cell",
-                                  k, m.desc.discontinuities[static_cast<std::size_t>(k)].name.c_str(),
-                                  o.kind == PlateDiscontinuity::Kind::hole ? "void" : "inclusion", o.name.c_str(),
+                                  "continuum.discontinuities.%d: the crack '%s' and the inclusion '%s' cut the cell "
+                                  "(%d, %d); the coupled contact boundary allows one crack and one void per cell",
+                                  k, m.desc.discontinuities[static_cast<std::size_t>(k)].name.c_str(), o.name.c_str(),
                                   static_cast<int>(c) % nxc, static_cast<int>(c) / nxc);
     }
   out = PlateBoundary{};
@@ -249,12 +309,13 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
     for (int i = 0; i < nx; ++i) {
       const int cell = j * nx + i;
       const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
-      if (cut < 0) continue;
+      if (cut < 0 || m.cell_material[static_cast<std::size_t>(cell)] < 0) continue;  // uncut, or all void
       const PlateDiscontinuity& q = m.desc.discontinuities[static_cast<std::size_t>(cut)];
       const bool hole = q.kind == PlateDiscontinuity::Kind::hole;
       // A free crack's two faces; tied or unilateral faces are held together.
       const bool faces = q.kind == PlateDiscontinuity::Kind::crack && q.faces == PlateDiscontinuity::Faces::free;
-      if (!hole && !faces) continue;
+      const int hv = m.cell_second_cut.empty() ? -1 : m.cell_second_cut[static_cast<std::size_t>(cell)];
+      if (!hole && !faces && hv < 0) continue;
       int nodes[4];
       for (int a = 0; a < 4; ++a) {
         const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
@@ -264,6 +325,102 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
       double phi[5], mean = 0;
       for (int a = 0; a < 4; ++a) mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>(nodes[a])]);
       phi[4] = 0.25 * mean;
+      // The vertex of a key (its side set to key_side), made at (xi, eta) on
+      // side `side` by the first segment through it.
+      auto vertex = [&](EdgeKey key, int key_side, double xi, double eta, int side) {
+        std::get<4>(key) = key_side;
+        const auto found = crossings.find(key);
+        return found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, xi, eta, side));
+      };
+      if (hv >= 0) {
+        // A crack from a void (no tip reaches the cell, and it is off the
+        // domain's edge: build_plate refuses both). In each sub-triangle the
+        // material is where the void's level set (linear there) is ≥ 0: the
+        // crack's faces are its line clipped there as the plate clips them,
+        // from where it meets the void's boundary (P, a vertex of each side);
+        // the void's boundary is split at P into a piece on each side of the
+        // crack, each on its side's functions, so that the side's face and
+        // void piece chain through P. The crack's line inside the void has no
+        // material on either side: no segment.
+        const auto vbase = static_cast<std::size_t>(hv) * static_cast<std::size_t>(m.nodes);
+        double vphi[5], vmean = 0;
+        for (int a = 0; a < 4; ++a) vmean += (vphi[a] = m.node_phi[vbase + static_cast<std::size_t>(nodes[a])]);
+        vphi[4] = 0.25 * vmean;
+        const PlateDiscontinuity& qv = m.desc.discontinuities[static_cast<std::size_t>(hv)];
+        for (int t = 0; t < 4; ++t) {
+          Chord cc, cv;
+          const bool crack_here = chord(m, cell, nodes, phi, t, cut, cc);
+          const bool void_here = chord(m, cell, nodes, vphi, t, hv, cv);
+          // The crack's chord outside the void: parameters s[0] … s[1] along it.
+          double s[2] = {0.0, 1.0};
+          bool face = false;
+          int clipped = -1;  // the end moved to P (−1: none)
+          if (crack_here) {
+            const double vs0 = on_triangle(vphi, t, cc.xi[0], cc.eta[0]), vs1 = on_triangle(vphi, t, cc.xi[1], cc.eta[1]);
+            if (!(vs0 < 0.0 && vs1 < 0.0)) {
+              if (vs0 < 0.0) s[0] = vs0 / (vs0 - vs1);
+              if (vs1 < 0.0) s[1] = vs0 / (vs0 - vs1);
+              face = s[1] > s[0];
+              if (face && (vs0 < 0.0 || vs1 < 0.0)) clipped = vs0 < 0.0 ? 0 : 1;
+            }
+          }
+          double exi[2], eeta[2];  // the clipped chord's ends
+          for (int e = 0; e < 2; ++e) {
+            if (e == clipped) {
+              exi[e] = cc.xi[0] + s[e] * (cc.xi[1] - cc.xi[0]);
+              eeta[e] = cc.eta[0] + s[e] * (cc.eta[1] - cc.eta[0]);
+            } else {
+              exi[e] = cc.xi[e], eeta[e] = cc.eta[e];  // an edge's crossing, as the cells around find it
+            }
+          }
+          const EdgeKey at_p{2, cell, t, cut, 0};
+          if (face && faces)
+            for (const int side : {1, -1}) {
+              const int first = chord_first(m, cc, side);
+              int ends[2];
+              for (int e = 0; e < 2; ++e) {
+                const int k = e == 0 ? first : 1 - first;
+                ends[e] = vertex(k == clipped ? at_p : cc.key[k], side, exi[k], eeta[k], side);
+              }
+              if (ends[0] == ends[1]) continue;
+              if (!w.link(ends[0], ends[1], i, j, exi[first], eeta[first], exi[1 - first], eeta[1 - first], side))
+                return meets_itself(cut, q, i, j);
+            }
+          if (!void_here) continue;
+          const int first = chord_first(m, cv, 1), other = 1 - first;
+          // The crack's side of each end of the void's chord (its key's side
+          // is the void's material side, +1, as in the cells the void alone cuts).
+          const double f0 = on_triangle(phi, t, cv.xi[first], cv.eta[first]);
+          const double f1 = on_triangle(phi, t, cv.xi[other], cv.eta[other]);
+          if (clipped < 0) {
+            // The void's chord does not meet the crack's line outside the
+            // void in this triangle: one piece, on the side of its middle.
+            const int side = xfem::side_of(on_triangle(phi, t, 0.5 * (cv.xi[0] + cv.xi[1]), 0.5 * (cv.eta[0] + cv.eta[1])));
+            const int a = vertex(cv.key[first], 1, cv.xi[first], cv.eta[first], side);
+            const int b = vertex(cv.key[other], 1, cv.xi[other], cv.eta[other], side);
+            if (a != b && !w.link(a, b, i, j, cv.xi[first], cv.eta[first], cv.xi[other], cv.eta[other], side))
+              return meets_itself(hv, qv, i, j);
+            continue;
+          }
+          // Split at P: each piece on the side of its far end (an end on the
+          // crack's line to round-off takes the side opposite the other's).
+          int s0 = xfem::side_of(f0), s1 = xfem::side_of(f1);
+          if (s0 == s1) {
+            if (std::fabs(f0) < std::fabs(f1))
+              s0 = -s1;
+            else
+              s1 = -s0;
+          }
+          const double pxi = exi[clipped], peta = eeta[clipped];
+          const int a0 = vertex(cv.key[first], 1, cv.xi[first], cv.eta[first], s0);
+          const int p0 = vertex(at_p, s0, pxi, peta, s0);
+          if (!w.link(a0, p0, i, j, cv.xi[first], cv.eta[first], pxi, peta, s0)) return meets_itself(hv, qv, i, j);
+          const int p1 = vertex(at_p, s1, pxi, peta, s1);
+          const int b1 = vertex(cv.key[other], 1, cv.xi[other], cv.eta[other], s1);
+          if (!w.link(p1, b1, i, j, pxi, peta, cv.xi[other], cv.eta[other], s1)) return meets_itself(hv, qv, i, j);
+        }
+        continue;
+      }
       if (const PlateModel::Tip* tip = tip_of_cell(m, cell, cut)) {
         // A tip's cell, fanned from the tip as the plate integrates it: each
         // face is the straight crack from where it enters the cell (the
@@ -286,9 +443,9 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         // The tip frame's left (local y > 0) is the + side at the polyline's last point.
         const int left = tip->at_end ? 1 : -1;
         for (const int side : {1, -1}) {
-          const auto found = crossings.find(EdgeKey{0, lo, hi, side});
+          const auto found = crossings.find(EdgeKey{0, lo, hi, cut, side});
           const int entry = found != crossings.end() ? found->second
-                                                     : (crossings[EdgeKey{0, lo, hi, side}] = w.add_vertex(i, j, exi, eeta, side));
+                                                     : (crossings[EdgeKey{0, lo, hi, cut, side}] = w.add_vertex(i, j, exi, eeta, side));
           // With its side's material on the left: towards the tip on the left side.
           const bool inward = side == left;
           const bool linked = inward ? w.link(entry, apex, i, j, exi, eeta, txi, teta, side)
@@ -298,53 +455,20 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         continue;
       }
       for (int t = 0; t < 4; ++t) {
-        // Triangle corners: cell corner t, corner t + 1, the centre (index 4).
-        const int corner[3] = {t, (t + 1) % 4, 4};
-        const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
-        int points = 0;
-        double cxi[2] = {0, 0}, ceta[2] = {0, 0};
-        EdgeKey keys[2];  // without the side yet
-        for (int e = 0; e < 3; ++e) {
-          const int a = e, b = (e + 1) % 3;
-          const double fa = phi[corner[a]], fb = phi[corner[b]];
-          if (xfem::side_of(fa) == xfem::side_of(fb) || points == 2) continue;
-          // Order the ends as the key does, so both cells (or triangles) agree.
-          const bool outer = corner[a] < 4 && corner[b] < 4;
-          const int ka = corner[a] < 4 ? nodes[corner[a]] : -1, kb = corner[b] < 4 ? nodes[corner[b]] : -1;
-          if (outer) {
-            crossing(fa, fb, pxi[a], peta[a], pxi[b], peta[b], ka, kb, cxi[points], ceta[points]);
-            keys[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb), 0};
-          } else {
-            // An inner edge: from its cell corner to the centre.
-            const int c = corner[a] < 4 ? a : b, z = corner[a] < 4 ? b : a;
-            crossing(phi[corner[c]], phi[4], pxi[c], peta[c], pxi[z], peta[z], 0, 1, cxi[points], ceta[points]);
-            keys[points] = EdgeKey{1, cell, corner[c], 0};
-          }
-          ++points;
-        }
-        if (points != 2) continue;
-        // φ's gradient on the triangle (parent coordinates, then physical);
-        // the direction with the material on the left is (g_y, −g_x).
-        const double x0 = pxi[0] - pxi[2], y0 = peta[0] - peta[2], x1 = pxi[1] - pxi[2], y1 = peta[1] - peta[2];
-        const double r0 = phi[corner[0]] - phi[4], r1 = phi[corner[1]] - phi[4];
-        const double det = x0 * y1 - x1 * y0;
-        const double gx = (r0 * y1 - r1 * y0) / det / m.cell_size[0], gy = (x0 * r1 - x1 * r0) / det / m.cell_size[1];
-        const double dx = (cxi[1] - cxi[0]) * m.cell_size[0], dy = (ceta[1] - ceta[0]) * m.cell_size[1];
+        Chord c;
+        if (!chord(m, cell, nodes, phi, t, cut, c)) continue;
         // The + side's segment runs with its material (φ ≥ 0) on the left; a
         // crack's − face runs the other way over the same line.
         for (const int side : {1, -1}) {
           if (side < 0 && !faces) break;
-          const int first = (dx * gy - dy * gx >= 0) == (side > 0) ? 0 : 1;
+          const int first = chord_first(m, c, side);
           int ends[2];
           for (int e = 0; e < 2; ++e) {
             const int k = e == 0 ? first : 1 - first;
-            EdgeKey key = keys[k];
-            std::get<3>(key) = side;
-            const auto found = crossings.find(key);
-            ends[e] = found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, cxi[k], ceta[k], side));
+            ends[e] = vertex(c.key[k], side, c.xi[k], c.eta[k], side);
           }
           if (ends[0] == ends[1]) continue;  // the line through a corner: no length
-          if (!w.link(ends[0], ends[1], i, j, cxi[first], ceta[first], cxi[1 - first], ceta[1 - first], side))
+          if (!w.link(ends[0], ends[1], i, j, c.xi[first], c.eta[first], c.xi[1 - first], c.eta[1 - first], side))
             return meets_itself(cut, q, i, j);
         }
       }

@@ -3667,14 +3667,19 @@ int plate_point_region(const PlateDesc& d, double x, double y, double tolerance)
   if (!locate_axis(d.min[0], d.max[0], d.cells[0], x, ci, xi) || !locate_axis(d.min[1], d.max[1], d.cells[1], y, cj, eta))
     return -1;
   int region = 0;
+  bool on_crack = false;
   for (const PlateDiscontinuity& q : d.discontinuities) {
-    const double phi = q.kind == PlateDiscontinuity::Kind::crack
-                           ? std::fabs(xfem::polyline_level_set(q.points, {x, y}))
-                           : level_set(q, q.points, {x, y});
+    if (q.kind == PlateDiscontinuity::Kind::crack) {
+      on_crack = on_crack || std::fabs(xfem::polyline_level_set(q.points, {x, y})) <= tolerance;
+      continue;
+    }
+    const double phi = level_set(q, q.points, {x, y});
     if (std::fabs(phi) <= tolerance) return 1;
     if (q.kind == PlateDiscontinuity::Kind::hole && phi < 0.0) region = 2;
   }
-  return region;
+  // A crack's line inside a void (a crack from a hole) has no material on
+  // either side: a point there is in the void.
+  return on_crack && region != 2 ? 1 : region;
 }
 
 PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {

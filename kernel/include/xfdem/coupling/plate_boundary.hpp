@@ -11,9 +11,15 @@
 // mouth can open). Then the voids' boundaries: in each sub-triangle of a cell
 // a void cuts, the zero line of the (there linear) level set, the material
 // on its left; and a free crack's two faces, one per side, each with its
-// side's material on its left. Crossings are shared by edge and side, so
-// they close into loops, or join the outer chain where they reach the
-// domain's edge (a crack through the plate: two loops). The broad phase is a fixed grid of bins over the
+// side's material on its left. In a cell cut by a crack and a void (a crack
+// from a hole), the material is where the void's level set (linear in each
+// sub-triangle) is ≥ 0: the void's zero line split where the crack's meets
+// it into a piece on each side of the crack (each on its side's functions),
+// and the crack's faces only outside the void, each chained to its side's
+// piece there; the crack's line inside the void has no material either
+// side and is no contact surface. Crossings are shared by edge, discontinuity
+// and side, so they close into loops, or join the outer chain where they
+// reach the domain's edge (a crack through the plate: two loops). The broad phase is a fixed grid of bins over the
 // domain: each segment is listed, in segment order, in every bin within
 // `reach` of it, so a disk looks in one bin and meets its candidates in a
 // fixed order.
@@ -91,7 +97,8 @@ struct PlateBoundary {
   double reach = 0, allowance = 0;
 };
 
-/// Builds the outer boundary, the voids' and the free cracks' faces of a built plate, with bins for disks up to
+/// Builds the outer boundary, the voids' and the free cracks' faces (a crack
+/// from a void's too) of a built plate, with bins for disks up to
 /// `max_radius` and boundary displacements up to `allowance` (m, > 0). Fails
 /// (naming `what`) for an unbuilt or static plate; allocates.
 BuildResult plate_boundary_build(const PlateModel& plate, double max_radius, double allowance, PlateBoundary& out);
