@@ -945,6 +945,30 @@ void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, c
   }
 }
 
+/// The polar rule of a piece is a signed sum of the triangles (P, p, q) over
+/// its edges; where P lies far outside the piece compared with its size (a
+/// sliver cut off near a node, a small piece far from the tip) those
+/// triangles are much larger than the piece and their sum cancels: its
+/// absolute round-off stays that of the triangles, so the integrals of
+/// functions that live on the piece alone (the shifted Heaviside function of
+/// a node across the crack from a sliver) are lost, and the mass and the
+/// stiffness can come out indefinite. Such a piece (Σ|triangles| >
+/// kPolarCancellation × its area) takes the collapsed Gauss rule on its own
+/// area instead: positive weights; the piece is then either far from P
+/// compared with its size (the rule's error far below round-off) or a sliver
+/// whose share of the cell is about 1/kPolarCancellation or less.
+constexpr double kPolarCancellation = 64.0;
+bool polar_cancels(const xfem::TrianglePiece& t, Point2 P) {
+  const double area2 = std::fabs((t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) -
+                                 (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]));
+  double sum = 0.0;
+  for (int e = 0; e < 3; ++e) {
+    const Point2 p = t.v[e], q = t.v[(e + 1) % 3];
+    sum += std::fabs((p[0] - P[0]) * (q[1] - p[1]) - (p[1] - P[1]) * (q[0] - p[0]));
+  }
+  return sum > kPolarCancellation * area2;
+}
+
 /// Calls f(xi, eta, weight, tri, side, material) for the quadrature points of
 /// the cell's material (weight in parent area: × hx hy / 4 for the physical;
 /// negative weights occur in the polar rule's signed triangles).
@@ -969,6 +993,20 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
   xfem::TrianglePiece pieces[kMaxPieces];
   int triangle[kMaxPieces];
   const int count = triangle_pieces(m, v, pieces, triangle);
+  // The collapsed 5 × 5 Gauss rule on a piece (positive weights from its own area).
+  auto integrate = [&](const xfem::TrianglePiece& q, int tri, int material) {
+    const Point2 v0 = q.v[0], v1 = q.v[1], v2 = q.v[2];
+    const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
+    const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
+    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
+    if (jac == 0.0) return;
+    for (int ia = 0; ia < 5; ++ia)
+      for (int ib = 0; ib < 5; ++ib) {
+        const double a = kGl5x[ia], b = kGl5x[ib];
+        const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
+        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, tri, q.side, material);
+      }
+  };
   if (v.tip_functions) {
     // Every piece of a cell with branch functions is integrated polar about
     // the tip (polar_piece).
@@ -983,15 +1021,21 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
       const double a2 = (t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) - (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]);
       return a2 > 0.0 ? 1 : a2 < 0.0 ? -1 : 0;
     };
+    // A piece whose signed triangles from the apex cancel to less than
+    // 1/kPolarCancellation of their sizes (a sliver, or a small piece far from
+    // the tip) is integrated by the collapsed Gauss rule on its own area
+    // instead ("Tiny cuts at a tip", docs/xfem2d.md).
+    bool own_rule[kMaxPieces] = {};
+    for (int p = 0; p < count; ++p) own_rule[p] = polar_cancels(pieces[p], apex);
     unsigned skip[kMaxPieces] = {};
     for (int p = 0; p < count; ++p) {
       const int sp = sense(pieces[p]);
-      if (sp == 0) continue;
+      if (sp == 0 || own_rule[p]) continue;
       for (int e = 0; e < 3; ++e) {
         if (skip[p] & (1u << e)) continue;
         const Point2 a = pieces[p].v[e], b = pieces[p].v[(e + 1) % 3];
         for (int r = p + 1; r < count && !(skip[p] & (1u << e)); ++r) {
-          if (pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
+          if (own_rule[r] || pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
           const int sr = sense(pieces[r]);
           if (sr == 0) continue;
           for (int k = 0; k < 3; ++k) {
@@ -1010,23 +1054,14 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
       const xfem::TrianglePiece& q = pieces[p];
       const int material = material_of(m, v, q.side);
       if (material < 0) continue;
+      if (own_rule[p]) {
+        integrate(q, triangle[p], material);
+        continue;
+      }
       polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, skip[p], [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
     }
     return;
   }
-  auto integrate = [&](const xfem::TrianglePiece& q, int tri, int material) {
-    const Point2 v0 = q.v[0], v1 = q.v[1], v2 = q.v[2];
-    const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
-    const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
-    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
-    if (jac == 0.0) return;
-    for (int ia = 0; ia < 5; ++ia)
-      for (int ib = 0; ib < 5; ++ib) {
-        const double a = kGl5x[ia], b = kGl5x[ib];
-        const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
-        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, tri, q.side, material);
-      }
-  };
   for_each_material_piece(m, v, pieces, triangle, count, integrate);
 }
 
