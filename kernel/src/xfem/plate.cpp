@@ -411,6 +411,11 @@ inline double phi_at(const PlateModel& m, int k, int node) {
   return m.node_phi[static_cast<std::size_t>(k) * static_cast<std::size_t>(m.nodes) + static_cast<std::size_t>(node)];
 }
 
+/// A crack's Heaviside function whose other side, within its support, is a
+/// corner cut off around one node within this fraction of a cell (of
+/// min(h_x, h_y)) of the crack gets no unknown (docs/xfem2d.md, "Tiny cuts").
+constexpr double kCornerSliverCells = 1e-6;
+
 /// Side of a cell that discontinuity k does not cut: − when some node is strictly negative.
 int uncut_side(const PlateModel& m, int k, const int en[4]) {
   for (int a = 0; a < 4; ++a)
@@ -2055,6 +2060,14 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             if (tip_inside) continue;
           }
           bool plus = false, minus = false, cut = false;
+          // A crack's shifted Heaviside N_n (H − H(x_n)) lives on the other side
+          // of the crack from the node. When that side holds a single node of
+          // the support, within kCornerSliverCells of a cell of the crack, it is
+          // a corner of size at most that cut off around that node: no unknown
+          // ("Tiny cuts", docs/xfem2d.md).
+          const bool node_plus = phi_at(model, static_cast<int>(k), n) >= 0.0;
+          bool far_other = false, several_near = false;
+          int near_node = -1;
           for (int cj = std::max(j - 1, 0); cj <= std::min(j, ny - 1); ++cj)
             for (int ci = std::max(i - 1, 0); ci <= std::min(i, nx - 1); ++ci) {
               const auto cell = static_cast<std::size_t>(cj * nx + ci);
@@ -2065,6 +2078,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 // Sides count only where the crack itself (not its extension) reaches the cell.
                 const double clo[2] = {xs(ci), ys(cj)}, chi[2] = {xs(ci + 1), ys(cj + 1)};
                 if (!polyline_meets_box(q.points, clo, chi, false)) continue;
+              }
+              for (int a = 0; a < 4; ++a) {
+                const double pb = phi_at(model, static_cast<int>(k), en[a]);
+                if ((pb >= 0.0) == node_plus) continue;
+                if (std::fabs(pb) > kCornerSliverCells * std::min(hx, hy)) {
+                  far_other = true;
+                } else if (near_node < 0) {
+                  near_node = en[a];
+                } else if (near_node != en[a]) {
+                  several_near = true;
+                }
               }
               if (model.cell_cut_by[cell] == static_cast<int>(k) && model.cell_void_cut[cell] >= 0) {
                 // Cut by the void too: only the sides with material outside it.
@@ -2077,7 +2101,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 (uncut_side(model, static_cast<int>(k), en) > 0 ? plus : minus) = true;
               }
             }
-          const bool enrich = q.kind == PlateDiscontinuity::Kind::crack ? (plus && minus) : cut;
+          const bool corner_sliver = !far_other && near_node >= 0 && !several_near;
+          const bool enrich = q.kind == PlateDiscontinuity::Kind::crack ? (plus && minus && !corner_sliver) : cut;
           if (!enrich) continue;
           const auto slot = static_cast<std::size_t>(2 * n);
           if (model.node_enrichment[slot] < 0) {
