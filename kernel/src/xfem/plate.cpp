@@ -412,6 +412,11 @@ inline double phi_at(const PlateModel& m, int k, int node) {
   return m.node_phi[static_cast<std::size_t>(k) * static_cast<std::size_t>(m.nodes) + static_cast<std::size_t>(node)];
 }
 
+/// A crack's Heaviside function whose other side, within its support, is a
+/// corner cut off around one node within this fraction of a cell (of
+/// min(h_x, h_y)) of the crack gets no unknown (docs/xfem2d.md, "Tiny cuts").
+constexpr double kCornerSliverCells = 1e-6;
+
 /// Side of a cell that discontinuity k does not cut: − when some node is strictly negative.
 int uncut_side(const PlateModel& m, int k, const int en[4]) {
   for (int a = 0; a < 4; ++a)
@@ -1008,6 +1013,30 @@ void polar_piece(const xfem::TrianglePiece& t, Point2 P, double hx, double hy, c
   }
 }
 
+/// The polar rule of a piece is a signed sum of the triangles (P, p, q) over
+/// its edges; where P lies far outside the piece compared with its size (a
+/// sliver cut off near a node, a small piece far from the tip) those
+/// triangles are much larger than the piece and their sum cancels: its
+/// absolute round-off stays that of the triangles, so the integrals of
+/// functions that live on the piece alone (the shifted Heaviside function of
+/// a node across the crack from a sliver) are lost, and the mass and the
+/// stiffness can come out indefinite. Such a piece (Σ|triangles| >
+/// kPolarCancellation × its area) takes the collapsed Gauss rule on its own
+/// area instead: positive weights; the piece is then either far from P
+/// compared with its size (the rule's error far below round-off) or a sliver
+/// whose share of the cell is about 1/kPolarCancellation or less.
+constexpr double kPolarCancellation = 64.0;
+bool polar_cancels(const xfem::TrianglePiece& t, Point2 P) {
+  const double area2 = std::fabs((t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) -
+                                 (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]));
+  double sum = 0.0;
+  for (int e = 0; e < 3; ++e) {
+    const Point2 p = t.v[e], q = t.v[(e + 1) % 3];
+    sum += std::fabs((p[0] - P[0]) * (q[1] - p[1]) - (p[1] - P[1]) * (q[0] - p[0]));
+  }
+  return sum > kPolarCancellation * area2;
+}
+
 /// Calls f(xi, eta, weight, tri, side, material) for the quadrature points of
 /// the cell's material (weight in parent area: × hx hy / 4 for the physical;
 /// negative weights occur in the polar rule's signed triangles).
@@ -1032,6 +1061,20 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
   xfem::TrianglePiece pieces[kMaxPieces];
   int triangle[kMaxPieces];
   const int count = triangle_pieces(m, v, pieces, triangle);
+  // The collapsed 5 × 5 Gauss rule on a piece (positive weights from its own area).
+  auto integrate = [&](const xfem::TrianglePiece& q, int tri, int material) {
+    const Point2 v0 = q.v[0], v1 = q.v[1], v2 = q.v[2];
+    const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
+    const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
+    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
+    if (jac == 0.0) return;
+    for (int ia = 0; ia < 5; ++ia)
+      for (int ib = 0; ib < 5; ++ib) {
+        const double a = kGl5x[ia], b = kGl5x[ib];
+        const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
+        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, tri, q.side, material);
+      }
+  };
   if (v.tip_functions) {
     // Every piece of a cell with branch functions is integrated polar about
     // the tip (polar_piece).
@@ -1046,15 +1089,21 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
       const double a2 = (t.v[1][0] - t.v[0][0]) * (t.v[2][1] - t.v[0][1]) - (t.v[1][1] - t.v[0][1]) * (t.v[2][0] - t.v[0][0]);
       return a2 > 0.0 ? 1 : a2 < 0.0 ? -1 : 0;
     };
+    // A piece whose signed triangles from the apex cancel to less than
+    // 1/kPolarCancellation of their sizes (a sliver, or a small piece far from
+    // the tip) is integrated by the collapsed Gauss rule on its own area
+    // instead ("Tiny cuts at a tip", docs/xfem2d.md).
+    bool own_rule[kMaxPieces] = {};
+    for (int p = 0; p < count; ++p) own_rule[p] = polar_cancels(pieces[p], apex);
     unsigned skip[kMaxPieces] = {};
     for (int p = 0; p < count; ++p) {
       const int sp = sense(pieces[p]);
-      if (sp == 0) continue;
+      if (sp == 0 || own_rule[p]) continue;
       for (int e = 0; e < 3; ++e) {
         if (skip[p] & (1u << e)) continue;
         const Point2 a = pieces[p].v[e], b = pieces[p].v[(e + 1) % 3];
         for (int r = p + 1; r < count && !(skip[p] & (1u << e)); ++r) {
-          if (pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
+          if (own_rule[r] || pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
           const int sr = sense(pieces[r]);
           if (sr == 0) continue;
           for (int k = 0; k < 3; ++k) {
@@ -1073,23 +1122,14 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
       const xfem::TrianglePiece& q = pieces[p];
       const int material = material_of(m, v, q.side);
       if (material < 0) continue;
+      if (own_rule[p]) {
+        integrate(q, triangle[p], material);
+        continue;
+      }
       polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, skip[p], [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
     }
     return;
   }
-  auto integrate = [&](const xfem::TrianglePiece& q, int tri, int material) {
-    const Point2 v0 = q.v[0], v1 = q.v[1], v2 = q.v[2];
-    const double e1x = v1[0] - v0[0], e1y = v1[1] - v0[1];
-    const double e2x = v2[0] - v1[0], e2y = v2[1] - v1[1];
-    const double jac = std::fabs(e1x * e2y - e1y * e2x);  // twice the piece's area
-    if (jac == 0.0) return;
-    for (int ia = 0; ia < 5; ++ia)
-      for (int ib = 0; ib < 5; ++ib) {
-        const double a = kGl5x[ia], b = kGl5x[ib];
-        const double xi = v0[0] + a * e1x + a * b * e2x, eta = v0[1] + a * e1y + a * b * e2y;
-        f(xi, eta, kGl5w[ia] * kGl5w[ib] * a * jac, tri, q.side, material);
-      }
-  };
   for_each_material_piece(m, v, pieces, triangle, count, integrate);
 }
 
@@ -2131,6 +2171,14 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
             if (tip_inside) continue;
           }
           bool plus = false, minus = false, cut = false;
+          // A crack's shifted Heaviside N_n (H − H(x_n)) lives on the other side
+          // of the crack from the node. When that side holds a single node of
+          // the support, within kCornerSliverCells of a cell of the crack, it is
+          // a corner of size at most that cut off around that node: no unknown
+          // ("Tiny cuts", docs/xfem2d.md).
+          const bool node_plus = phi_at(model, static_cast<int>(k), n) >= 0.0;
+          bool far_other = false, several_near = false;
+          int near_node = -1;
           for (int cj = std::max(j - 1, 0); cj <= std::min(j, ny - 1); ++cj)
             for (int ci = std::max(i - 1, 0); ci <= std::min(i, nx - 1); ++ci) {
               const auto cell = static_cast<std::size_t>(cj * nx + ci);
@@ -2141,6 +2189,17 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 // Sides count only where the crack itself (not its extension) reaches the cell.
                 const double clo[2] = {xs(ci), ys(cj)}, chi[2] = {xs(ci + 1), ys(cj + 1)};
                 if (!polyline_meets_box(q.points, clo, chi, false)) continue;
+              }
+              for (int a = 0; a < 4; ++a) {
+                const double pb = phi_at(model, static_cast<int>(k), en[a]);
+                if ((pb >= 0.0) == node_plus) continue;
+                if (std::fabs(pb) > kCornerSliverCells * std::min(hx, hy)) {
+                  far_other = true;
+                } else if (near_node < 0) {
+                  near_node = en[a];
+                } else if (near_node != en[a]) {
+                  several_near = true;
+                }
               }
               if (model.cell_second_cut[cell] == static_cast<int>(k)) {
                 cut = true;  // an inclusion cutting the cell with a crack
@@ -2155,7 +2214,8 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
                 (uncut_side(model, static_cast<int>(k), en) > 0 ? plus : minus) = true;
               }
             }
-          const bool enrich = q.kind == PlateDiscontinuity::Kind::crack ? (plus && minus) : cut;
+          const bool corner_sliver = !far_other && near_node >= 0 && !several_near;
+          const bool enrich = q.kind == PlateDiscontinuity::Kind::crack ? (plus && minus && !corner_sliver) : cut;
           if (!enrich) continue;
           const auto slot = static_cast<std::size_t>(2 * n);
           if (model.node_enrichment[slot] < 0) {
