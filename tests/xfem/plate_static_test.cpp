@@ -267,3 +267,65 @@ TEST(PlateStatic, CantileverConvergesToTheElasticitySolution) {
   EXPECT_LT(order, 2.1);
   EXPECT_LT(errors[n - 1], 1e-3);
 }
+
+// plate_support_reaction: a wall held along its base (x and y) under two
+// point forces balances them, component by component, in the plain plate and
+// with a free crack and a void in the cells on the support (their rows come
+// from the cut cells' own stiffnesses, enrichments and tip functions
+// included). Statics: R + Σ F = 0 to the static solve's round-off (below).
+TEST(PlateStatic, SupportReactionBalancesTheLoads) {
+  for (int variant = 0; variant < 2; ++variant) {
+    PlateDesc d = steel(PlateDesc::Plane::strain);
+    d.youngs_modulus = 3e10, d.poisson_ratio = 0.2, d.density = 2400.0;
+    d.max[0] = 0.4, d.max[1] = 1.6;
+    d.cells[0] = 16, d.cells[1] = 64;
+    d.supports.push_back({PlateEdge::bottom, {true, true}, false});
+    if (variant == 1) {
+      // A crack with two tips in the first row of cells (its nodes held below
+      // it), and a void cutting cells of the second row.
+      PlateDiscontinuity crack;
+      crack.name = "crack";
+      crack.points = {{0.14, 0.011}, {0.29, 0.011}};
+      d.discontinuities.push_back(crack);
+      PlateDiscontinuity hole;
+      hole.name = "hole";
+      hole.kind = PlateDiscontinuity::Kind::hole;
+      hole.shape = PlateDiscontinuity::Shape::circle;
+      hole.centre[0] = 0.2, hole.centre[1] = 0.06, hole.radius = 0.02;
+      d.discontinuities.push_back(hole);
+    }
+    const double f[2][2] = {{3.0e3, -1.0e3}, {-0.5e3, -2.0e3}};
+    const double at[2][2] = {{0.4, 1.2}, {0.1, 0.7}};
+    for (int k = 0; k < 2; ++k) {
+      PlateLoad load;
+      load.kind = PlateLoad::Kind::point_force;
+      load.at[0] = at[k][0], load.at[1] = at[k][1];
+      load.value[0] = f[k][0], load.value[1] = f[k][1];
+      d.loads.push_back(load);
+    }
+    PlateModel m;
+    PlateState st;
+    PlateWorkspace ws;
+    const BuildResult r = build_plate(d, m, st, ws);
+    ASSERT_TRUE(r.ok()) << r.message;
+    double reaction[2];
+    plate_support_reaction(m, st, reaction);
+    // R + Σ F is the sum of the static solve's residuals on the free rows
+    // (Σ_all (K u) = 0 for a translation, Σ_free (K u − f) the rest): each
+    // row's residual is a few ε of its terms, at most 2 × 4 cells' entries
+    // (a cut cell's up to 2 kPlateMaxPointFunctions) times |u|. The bound:
+    // ε × the rows × 64 × max |K_ab| × max |u|.
+    double kmax = 0.0, umax = 0.0;
+    for (double x : m.element_stiffness) kmax = std::max(kmax, std::fabs(x));
+    for (double x : m.other_cell_matrix) kmax = std::max(kmax, std::fabs(x));
+    for (double x : st.u) umax = std::max(umax, std::fabs(x));
+    const double scale = static_cast<double>(m.dofs) * 64.0 * kmax * umax;
+    for (int c = 0; c < 2; ++c) {
+      const double total = f[0][c] + f[1][c];
+      std::printf("%s: reaction %c %.12g N against the loads' %.12g N: off by %.3g N (bound ε × %.3g N, %.2g of it)\n",
+                  variant == 0 ? "plain wall" : "crack and void at the base", c == 0 ? 'x' : 'y', reaction[c], total,
+                  reaction[c] + total, scale, std::fabs(reaction[c] + total) / (scale * kEps));
+      EXPECT_LE(std::fabs(reaction[c] + total), kEps * scale);
+    }
+  }
+}

@@ -427,6 +427,20 @@ double plate_algorithmic_energy(const PlateModel& model, const PlateState& state
 /// ∫ ρ v_c dV (component c), kg·m/s.
 double plate_momentum(const PlateModel& model, const PlateState& state, int component);
 
+/// The force (N, x and y) the supports exert on the plate: Σ (K u) over the
+/// rows of the held standard components (supports and prescribed nodes; the
+/// held displacements at state.time), cell by cell from the element
+/// stiffnesses the step uses, i.e. the stress resultant the plate passes to
+/// them. It is the held rows' reaction of a plate at rest; in motion it
+/// leaves out those rows' share of the consistent inertia (M_hf a_f), so that
+/// R + Σ f = Σ_f (M a)_f, the free rows' inertia, summed as a rigid
+/// translation sees them. Loads, self weight and a host's forces
+/// (PlateWorkspace::external_force, the coupled stepper's contact forces)
+/// that fall on held components are not in it: they never reach the
+/// plate's unknowns and pass straight into the support. Both NaN for an
+/// unbuilt model. No allocation.
+void plate_support_reaction(const PlateModel& model, const PlateState& state, double reaction[2]);
+
 /// The jump upper (left of the crack) minus lower across crack `crack` (an index
 /// of desc.discontinuities) at a point on it: component 0 normal (left of the
 /// polyline's direction, positive when opening), 1 tangential (along it). NaN

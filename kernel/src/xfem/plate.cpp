@@ -3859,6 +3859,36 @@ double plate_algorithmic_energy(const PlateModel& m, const PlateState& s) {
   return e.kinetic + e.elastic + 0.5 * k.dt * k.dt * c * ama;
 }
 
+void plate_support_reaction(const PlateModel& m, const PlateState& s, double reaction[2]) {
+  reaction[0] = reaction[1] = 0.0;
+  if (!m.built) {
+    reaction[0] = reaction[1] = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  // The cells in the build's order (plain ones on element_stiffness, the others
+  // on their stored matrix, other_cell_* in the same order): the standard
+  // functions come first in a view, so rows 0 … 7 are the four nodes' x, y.
+  CellView v;
+  std::size_t other = 0;
+  for (int j = 0; j < m.desc.cells[1]; ++j)
+    for (int i = 0; i < m.desc.cells[0]; ++i) {
+      make_view(m, i, j, v, s.time, &s);
+      const int nf = v.plain ? 8 : 2 * v.count;
+      const double* k = v.plain ? m.element_stiffness : m.other_cell_matrix.data() + m.other_cell_matrix_start[other++];
+      bool held = false;
+      for (int a = 0; a < 8; ++a) held = held || v.dof[a / 2][a % 2] < 0;
+      if (!held) continue;
+      double ue[2 * kMaxCellFunctions];
+      for (int a = 0; a < nf; ++a) ue[a] = coefficient(v, s.u.data(), Field::displacement, a / 2, a % 2);
+      for (int a = 0; a < 8; ++a) {
+        if (v.dof[a / 2][a % 2] >= 0) continue;
+        double row = 0.0;
+        for (int b = 0; b < nf; ++b) row += k[a * nf + b] * ue[b];
+        reaction[a % 2] += row;
+      }
+    }
+}
+
 double plate_momentum(const PlateModel& m, const PlateState& s, int component) {
   if (!m.built || component < 0 || component > 1) return std::numeric_limits<double>::quiet_NaN();
   double p = 0.0;
