@@ -417,6 +417,10 @@ inline double phi_at(const PlateModel& m, int k, int node) {
 /// min(h_x, h_y)) of the crack gets no unknown (docs/xfem2d.md, "Tiny cuts").
 constexpr double kCornerSliverCells = 1e-6;
 
+/// A node within this fraction of a cell (of min(h_x, h_y)) of a crack
+/// without a tip is on it (φ = 0; docs/xfem2d.md, "Edge slivers").
+constexpr double kCrackOnNodeCells = 1e-6;
+
 /// Side of a cell that discontinuity k does not cut: − when some node is strictly negative.
 int uncut_side(const PlateModel& m, int k, const int en[4]) {
   for (int a = 0; a < 4; ++a)
@@ -1892,13 +1896,18 @@ BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state
       // the boundary is on it (φ = 0). The ridge's support does not shrink
       // with the cut (its span jumps when a boundary crosses a node), so the
       // answer is kept continuous by moving the boundary by at most 1e-9 of
-      // a cell, far below the O(h²) of its piecewise-linear geometry. Cracks
-      // need no rule: their Heaviside functions live on the sliver only.
-      if (d.discontinuities[k].kind != PlateDiscontinuity::Kind::crack)
+      // a cell, far below the O(h²) of its piecewise-linear geometry. A
+      // crack without a tip: a node within kCrackOnNodeCells of a cell of it
+      // is on it (docs/xfem2d.md, "Edge slivers"): no strip thinner than
+      // that is cut off along a row of nodes.
+      const bool crack = d.discontinuities[k].kind == PlateDiscontinuity::Kind::crack;
+      if (!crack || !crack_has_tip(d, d.discontinuities[k])) {
+        const double on = (crack ? kCrackOnNodeCells : 1e-9) * std::min(hx, hy);
         for (int n = 0; n < nodes; ++n) {
           double& p = model.node_phi[k * static_cast<std::size_t>(nodes) + static_cast<std::size_t>(n)];
-          if (std::fabs(p) <= 1e-9 * std::min(hx, hy)) p = 0.0;
+          if (std::fabs(p) <= on) p = 0.0;
         }
+      }
     }
     const auto ncells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     model.cell_cut_by.assign(ncells, -1);
