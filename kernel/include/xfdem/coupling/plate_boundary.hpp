@@ -103,6 +103,15 @@ struct PlateBoundary {
 /// (naming `what`) for an unbuilt or static plate; allocates.
 BuildResult plate_boundary_build(const PlateModel& plate, double max_radius, double allowance, PlateBoundary& out);
 
+/// The material segment s bounds: 0 the plate's, 1 + k inclusion k's (−1
+/// none), as the plate takes it (its material_at): in a cell an inclusion
+/// cuts alone, the inclusion's on its − side; in a cell a crack and an
+/// inclusion cut, the inclusion's where the inclusion's level set, linear on
+/// the sub-triangle, is negative at the segment's middle (the build splits a
+/// segment where it crosses zero, so the whole segment is of that material);
+/// else the cell's.
+int plate_boundary_segment_material(const PlateModel& plate, const PlateBoundarySegment& segment);
+
 /// The deformed position of every vertex (2 per vertex, x then y) at the
 /// plate's displacement u (its unknowns) at time `time` (s: the held
 /// displacements of prescribed nodes that move are their values then). No allocation.
