@@ -451,9 +451,9 @@ TEST(PlateCrackInclusion, StepNeverAllocates) {
   EXPECT_TRUE(std::isfinite(sink));
 }
 
-// What stays refused with a crack and an inclusion in one cell, each with
-// its message: a tip whose branch functions reach such a cell, and the
-// coupled contact boundary.
+// What stays refused with a crack and an inclusion in one cell, with its
+// message: a tip whose branch functions reach such a cell. The coupled
+// contact boundary traces such a cell (its crack's faces).
 TEST(PlateCrackInclusion, RefusalsNameTheCombination) {
   auto square = [] {
     PlateDesc d = xfdem::testing::plate(kE, 1.0, 1.0, 10, 10);
@@ -479,20 +479,22 @@ TEST(PlateCrackInclusion, RefusalsNameTheCombination) {
               "mesh or move the tip from the inclusion's boundary)");
   }
   {
-    // Across the plate: the plate builds; the coupled contact boundary refuses the cell.
+    // Across the plate: the plate builds, and so does the coupled contact
+    // boundary (the crack off the cells' centres, y = 0.45, through which a
+    // crack's faces are not traced: docs/coupled2d.md, "Not done yet").
     PlateDesc d = square();
     d.analysis = PlateDesc::Analysis::dynamic;
     PlateDiscontinuity c;
     c.name = "c1";
-    c.points = {{-0.1, 0.45}, {1.1, 0.45}};
+    c.points = {{-0.1, 0.46}, {1.1, 0.46}};
     d.discontinuities = {c, inc};
     Built p;
     const BuildResult r = build_plate(d, p.m, p.s, p.w);
     ASSERT_TRUE(r.ok()) << r.message;
     PlateBoundary b;
     const BuildResult rb = plate_boundary_build(p.m, 1e-3, 0.05, b);
-    EXPECT_FALSE(rb.ok());
-    EXPECT_EQ(std::string(rb.message), "continuum.discontinuities.0: the crack 'c1' and the inclusion 'inclusion' cut "
-                                       "the cell (2, 4); the coupled contact boundary allows one crack and one void per cell");
+    ASSERT_GE(p.m.cell_second_cut[4 * 10 + 2], 0);  // the cell (2, 4) both cut
+    EXPECT_TRUE(rb.ok()) << rb.message;
+    EXPECT_EQ(b.vertices.size(), b.segments.size());  // every chain closed
   }
 }

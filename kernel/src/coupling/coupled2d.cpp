@@ -704,17 +704,13 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
   if (!r.ok()) return r;
   if (hertz && !plate.discontinuities.empty()) {
     // Each segment's material: that of its cell on its side (an inclusion's
-    // on the inclusion's negative side, as the plate integrates it).
+    // on the inclusion's negative side, as the plate integrates it; in a
+    // cell cut by a crack and an inclusion, by the inclusion's level set at
+    // the segment, which the build splits where it crosses zero).
     m.segment_inv_e.assign(m.boundary.segments.size(), m.plate_inv_e);
     m.segment_inv_g.assign(m.boundary.segments.size(), m.plate_inv_g);
     for (std::size_t k = 0; k < m.boundary.segments.size(); ++k) {
-      const PlateBoundarySegment& seg = m.boundary.segments[k];
-      const auto cell = static_cast<std::size_t>(seg.cell[1] * plate.cells[0] + seg.cell[0]);
-      const int cut = m.plate.cell_cut_by[cell];
-      int material = m.plate.cell_material[cell];
-      if (cut >= 0 && seg.side < 0 &&
-          plate.discontinuities[static_cast<std::size_t>(cut)].kind == PlateDiscontinuity::Kind::inclusion)
-        material = 1 + cut;
+      const int material = plate_boundary_segment_material(m.plate, m.boundary.segments[k]);
       if (material <= 0) continue;
       const PlateMaterial& q = plate.discontinuities[static_cast<std::size_t>(material - 1)].material;
       m.segment_inv_e[k] = (1.0 - q.poisson_ratio * q.poisson_ratio) / q.youngs_modulus;

@@ -136,9 +136,38 @@ struct Walker {
     const int s0 = xfem::side_of(p0), s1 = xfem::side_of(p1);
     const PlateDiscontinuity::Kind kind = m.desc.discontinuities[static_cast<std::size_t>(cut)].kind;
     auto has_material = [&](int side) { return !(kind == PlateDiscontinuity::Kind::hole && side < 0); };
+    // In a cell cut by a crack and an inclusion (a void with a crack is off
+    // the domain's edge: build_plate refuses it), the edge is also split
+    // where the inclusion's level set crosses it, as the plate splits it for
+    // edge loads, so that each part lies in one material; the field is
+    // continuous there and the chain goes on, on the same side of the crack.
+    const int second = m.cell_second_cut.empty() ? -1 : m.cell_second_cut[static_cast<std::size_t>(cell)];
+    double sxi = 0, seta = 0;
+    bool split = false;
+    if (second >= 0) {
+      const auto sbase = static_cast<std::size_t>(second) * static_cast<std::size_t>(m.nodes);
+      const double q0 = m.node_phi[sbase + static_cast<std::size_t>(node(from))];
+      const double q1 = m.node_phi[sbase + static_cast<std::size_t>(node(to))];
+      if (xfem::side_of(q0) != xfem::side_of(q1)) {
+        crossing(q0, q1, xi0, eta0, xi1, eta1, node(from), node(to), sxi, seta);
+        split = (sxi != xi0 || seta != eta0) && (sxi != xi1 || seta != eta1);
+      }
+    }
+    // The part of the edge from (a_xi, a_eta) to (b_xi, b_eta) on side `side`,
+    // split at the inclusion's crossing where that lies strictly inside it.
+    auto part = [&](double a_xi, double a_eta, double b_xi, double b_eta, int side) {
+      const double along = (sxi - a_xi) * (b_xi - a_xi) + (seta - a_eta) * (b_eta - a_eta);
+      const double length2 = (b_xi - a_xi) * (b_xi - a_xi) + (b_eta - a_eta) * (b_eta - a_eta);
+      if (split && along > 0 && along < length2) {
+        add_segment(i, j, a_xi, a_eta, sxi, seta, side);
+        add_segment(i, j, sxi, seta, b_xi, b_eta, side);
+      } else {
+        add_segment(i, j, a_xi, a_eta, b_xi, b_eta, side);
+      }
+    };
     if (s0 == s1) {
       if (!has_material(s0)) return brk();
-      return add_segment(i, j, xi0, eta0, xi1, eta1, s0);
+      return part(xi0, eta0, xi1, eta1, s0);
     }
     double xim = 0, etam = 0;
     crossing(p0, p1, xi0, eta0, xi1, eta1, node(from), node(to), xim, etam);
@@ -147,15 +176,16 @@ struct Walker {
     if (tip != nullptr && ahead_of_tip(m, *tip, i, j, xim, etam)) return add_segment(i, j, xi0, eta0, xi1, eta1, 1);
     const int lo = std::min(node(from), node(to)), hi = std::max(node(from), node(to));
     if (has_material(s0)) {
-      add_segment(i, j, xi0, eta0, xim, etam, s0);
+      part(xi0, eta0, xim, etam, s0);
       crossings[EdgeKey{0, lo, hi, cut, s0}] = last;  // a void's boundary or a crack's face goes on from here
     }
     // A crack opens at the crossing: each face ends in a vertex of its own
     // side. An inclusion's field is continuous there: the chain goes on.
     if (kind != PlateDiscontinuity::Kind::inclusion) brk();
     if (has_material(s1)) {
-      add_segment(i, j, xim, etam, xi1, eta1, s1);
-      crossings[EdgeKey{0, lo, hi, cut, s1}] = out.segments.back().a;  // ... and ends here
+      const std::size_t before = out.segments.size();
+      part(xim, etam, xi1, eta1, s1);
+      crossings[EdgeKey{0, lo, hi, cut, s1}] = out.segments[before].a;  // ... and ends here
     }
   }
 };
@@ -260,21 +290,6 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
                                 max_radius);
   if (!(std::isfinite(allowance) && allowance > 0))
     return BuildResult::failure(Code::invalid_argument, "boundary_allowance: %g is not a positive length", allowance);
-  // A cell cut by a crack and a void (a crack from a hole) is traced below; a
-  // cell cut by a crack and an inclusion is not traced yet. Named under
-  // "continuum." so that a coupled scene's loader names the plate's key.
-  for (std::size_t c = 0; c < m.cell_second_cut.size(); ++c)
-    if (m.cell_second_cut[c] >= 0 &&
-        m.desc.discontinuities[static_cast<std::size_t>(m.cell_second_cut[c])].kind != PlateDiscontinuity::Kind::hole) {
-      const int nxc = m.desc.cells[0];
-      const int k = m.cell_cut_by[c], hv = m.cell_second_cut[c];
-      const PlateDiscontinuity& o = m.desc.discontinuities[static_cast<std::size_t>(hv)];
-      return BuildResult::failure(Code::invalid_argument,
-                                  "continuum.discontinuities.%d: the crack '%s' and the inclusion '%s' cut the cell "
-                                  "(%d, %d); the coupled contact boundary allows one crack and one void per cell",
-                                  k, m.desc.discontinuities[static_cast<std::size_t>(k)].name.c_str(), o.name.c_str(),
-                                  static_cast<int>(c) % nxc, static_cast<int>(c) / nxc);
-    }
   out = PlateBoundary{};
   const int nx = m.desc.cells[0], ny = m.desc.cells[1];
   std::map<EdgeKey, int> crossings;
@@ -333,31 +348,48 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         return found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, xi, eta, side));
       };
       if (hv >= 0) {
-        // A crack from a void (no tip reaches the cell, and it is off the
-        // domain's edge: build_plate refuses both). In each sub-triangle the
-        // material is where the void's level set (linear there) is ≥ 0: the
-        // crack's faces are its line clipped there as the plate clips them,
-        // from where it meets the void's boundary (P, a vertex of each side);
-        // the void's boundary is split at P into a piece on each side of the
+        // A crack from a void or across an inclusion (no tip reaches the
+        // cell, and a void's is off the domain's edge: build_plate refuses
+        // these). The second level set is linear on each sub-triangle, as the
+        // plate splits the pieces by it.
+        //
+        // A void: the material is where its level set is ≥ 0; the crack's
+        // faces are its line clipped there as the plate clips them, from
+        // where it meets the void's boundary (P, a vertex of each side); the
+        // void's boundary is split at P into a piece on each side of the
         // crack, each on its side's functions, so that the side's face and
         // void piece chain through P. The crack's line inside the void has no
         // material on either side: no segment.
+        //
+        // An inclusion: material on both sides of its boundary, which is no
+        // contact surface; the crack's faces are its whole line, each face on
+        // its side's functions (the inclusion's ridge among them), split at P
+        // where the line crosses the inclusion's boundary, so that each
+        // segment lies in one material (plate_boundary_segment_material).
         const auto vbase = static_cast<std::size_t>(hv) * static_cast<std::size_t>(m.nodes);
         double vphi[5], vmean = 0;
         for (int a = 0; a < 4; ++a) vmean += (vphi[a] = m.node_phi[vbase + static_cast<std::size_t>(nodes[a])]);
         vphi[4] = 0.25 * vmean;
         const PlateDiscontinuity& qv = m.desc.discontinuities[static_cast<std::size_t>(hv)];
+        const bool second_void = qv.kind == PlateDiscontinuity::Kind::hole;
         for (int t = 0; t < 4; ++t) {
           Chord cc, cv;
           const bool crack_here = chord(m, cell, nodes, phi, t, cut, cc);
-          const bool void_here = chord(m, cell, nodes, vphi, t, hv, cv);
+          const bool void_here = second_void && chord(m, cell, nodes, vphi, t, hv, cv);
           // The crack's chord outside the void: parameters s[0] … s[1] along it.
           double s[2] = {0.0, 1.0};
           bool face = false;
           int clipped = -1;  // the end moved to P (−1: none)
+          double ps = -1;    // an inclusion's P: its parameter along the chord (−1: none)
           if (crack_here) {
             const double vs0 = on_triangle(vphi, t, cc.xi[0], cc.eta[0]), vs1 = on_triangle(vphi, t, cc.xi[1], cc.eta[1]);
-            if (!(vs0 < 0.0 && vs1 < 0.0)) {
+            if (!second_void) {
+              face = true;
+              if ((vs0 < 0.0) != (vs1 < 0.0)) {
+                const double at = vs0 / (vs0 - vs1);
+                if (at > 0.0 && at < 1.0) ps = at;
+              }
+            } else if (!(vs0 < 0.0 && vs1 < 0.0)) {
               if (vs0 < 0.0) s[0] = vs0 / (vs0 - vs1);
               if (vs1 < 0.0) s[1] = vs0 / (vs0 - vs1);
               face = s[1] > s[0];
@@ -383,7 +415,15 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
                 ends[e] = vertex(k == clipped ? at_p : cc.key[k], side, exi[k], eeta[k], side);
               }
               if (ends[0] == ends[1]) continue;
-              if (!w.link(ends[0], ends[1], i, j, exi[first], eeta[first], exi[1 - first], eeta[1 - first], side))
+              if (ps < 0.0) {
+                if (!w.link(ends[0], ends[1], i, j, exi[first], eeta[first], exi[1 - first], eeta[1 - first], side))
+                  return meets_itself(cut, q, i, j);
+                continue;
+              }
+              const double pxi = cc.xi[0] + ps * (cc.xi[1] - cc.xi[0]), peta = cc.eta[0] + ps * (cc.eta[1] - cc.eta[0]);
+              const int p = vertex(at_p, side, pxi, peta, side);
+              if (!w.link(ends[0], p, i, j, exi[first], eeta[first], pxi, peta, side) ||
+                  !w.link(p, ends[1], i, j, pxi, peta, exi[1 - first], eeta[1 - first], side))
                 return meets_itself(cut, q, i, j);
             }
           if (!void_here) continue;
@@ -527,6 +567,31 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
   for (std::size_t k = 0; k < out.segments.size(); ++k)
     for_bins(out.segments[k], [&](std::size_t bin) { out.bin_items[static_cast<std::size_t>(fill[bin]++)] = static_cast<int>(k); });
   return BuildResult::success();
+}
+
+int plate_boundary_segment_material(const PlateModel& m, const PlateBoundarySegment& s) {
+  const int nx = m.desc.cells[0];
+  const auto cell = static_cast<std::size_t>(s.cell[1] * nx + s.cell[0]);
+  const int material = m.cell_material.empty() ? 0 : m.cell_material[cell];
+  const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[cell];
+  if (cut < 0) return material;
+  const PlateDiscontinuity::Kind kind = m.desc.discontinuities[static_cast<std::size_t>(cut)].kind;
+  if (kind == PlateDiscontinuity::Kind::inclusion) return s.side < 0 ? 1 + cut : material;
+  const int second = m.cell_second_cut.empty() ? -1 : m.cell_second_cut[cell];
+  if (second < 0 || m.desc.discontinuities[static_cast<std::size_t>(second)].kind != PlateDiscontinuity::Kind::inclusion)
+    return material;
+  // The inclusion's level set, linear on the sub-triangle that holds the
+  // segment's middle (the segment is split where it crosses zero).
+  const double xi = 0.5 * (s.xi[0] + s.xi[1]), eta = 0.5 * (s.eta[0] + s.eta[1]);
+  const int t = eta <= -std::fabs(xi) ? 0 : xi >= std::fabs(eta) ? 1 : eta >= std::fabs(xi) ? 2 : 3;
+  const auto base = static_cast<std::size_t>(second) * static_cast<std::size_t>(m.nodes);
+  double phi[5], mean = 0;
+  for (int a = 0; a < 4; ++a) {
+    const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
+    mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>((s.cell[1] + dj) * (nx + 1) + s.cell[0] + di)]);
+  }
+  phi[4] = 0.25 * mean;
+  return xfem::side_of(on_triangle(phi, t, xi, eta)) < 0 ? 1 + second : material;
 }
 
 void plate_material_point_field(const PlateModel& m, const PlateMaterialPoint& at, const double* field,

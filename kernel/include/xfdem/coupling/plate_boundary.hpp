@@ -17,7 +17,12 @@
 // it into a piece on each side of the crack (each on its side's functions),
 // and the crack's faces only outside the void, each chained to its side's
 // piece there; the crack's line inside the void has no material either
-// side and is no contact surface. Crossings are shared by edge, discontinuity
+// side and is no contact surface. In a cell cut by a crack and an inclusion
+// (material on both sides of the inclusion's boundary, which is no contact
+// surface), a free crack's two faces, split where they cross the
+// inclusion's level set (linear in each sub-triangle) so that each segment
+// lies in one material; on the domain's edge the edge is split at both
+// crossings. Crossings are shared by edge, discontinuity
 // and side, so they close into loops, or join the outer chain where they
 // reach the domain's edge (a crack through the plate: two loops). The broad phase is a fixed grid of bins over the
 // domain: each segment is listed, in segment order, in every bin within
@@ -98,10 +103,19 @@ struct PlateBoundary {
 };
 
 /// Builds the outer boundary, the voids' and the free cracks' faces (a crack
-/// from a void's too) of a built plate, with bins for disks up to
+/// from a void's, a crack across an inclusion's too) of a built plate, with bins for disks up to
 /// `max_radius` and boundary displacements up to `allowance` (m, > 0). Fails
 /// (naming `what`) for an unbuilt or static plate; allocates.
 BuildResult plate_boundary_build(const PlateModel& plate, double max_radius, double allowance, PlateBoundary& out);
+
+/// The material segment s bounds: 0 the plate's, 1 + k inclusion k's (−1
+/// none), as the plate takes it (its material_at): in a cell an inclusion
+/// cuts alone, the inclusion's on its − side; in a cell a crack and an
+/// inclusion cut, the inclusion's where the inclusion's level set, linear on
+/// the sub-triangle, is negative at the segment's middle (the build splits a
+/// segment where it crosses zero, so the whole segment is of that material);
+/// else the cell's.
+int plate_boundary_segment_material(const PlateModel& plate, const PlateBoundarySegment& segment);
 
 /// The deformed position of every vertex (2 per vertex, x then y) at the
 /// plate's displacement u (its unknowns) at time `time` (s: the held
