@@ -202,6 +202,17 @@ struct Chord {
 /// The chord of discontinuity `disc`'s level set (values phi at the corners
 /// of cell `cell`, natural nodes `nodes`, and at its centre) in sub-triangle
 /// t (corners t, t + 1 and the centre). False where it does not cross it.
+/// The level set at a cell's centre, the mean of its corners'. A mean within
+/// round-off of 0 (a line through the centre, whose corners' values cancel
+/// to a few ulps) is 0, so that every inner edge's crossing is the centre
+/// itself and shares its key (chord()); it moves the crossing by at most
+/// 1e-12 of the half-diagonal.
+double centre_value(const double phi[5], double sum) {
+  const double scale = std::max(std::max(std::fabs(phi[0]), std::fabs(phi[1])), std::max(std::fabs(phi[2]), std::fabs(phi[3])));
+  const double mean = 0.25 * sum;
+  return std::fabs(mean) <= 1e-12 * scale ? 0.0 : mean;
+}
+
 bool chord(const PlateModel& m, int cell, const int nodes[4], const double phi[5], int t, int disc, Chord& c) {
   const int corner[3] = {t, (t + 1) % 4, 4};
   const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
@@ -220,7 +231,10 @@ bool chord(const PlateModel& m, int cell, const int nodes[4], const double phi[5
       // An inner edge: from its cell corner to the centre.
       const int cc = corner[a] < 4 ? a : b, z = corner[a] < 4 ? b : a;
       crossing(phi[corner[cc]], phi[4], pxi[cc], peta[cc], pxi[z], peta[z], 0, 1, c.xi[points], c.eta[points]);
-      c.key[points] = EdgeKey{1, cell, corner[cc], disc, 0};
+      // A line through the cell's centre crosses every inner edge there: one
+      // key (the centre, 4) for all of them, so the triangles' chords share
+      // that vertex and a chord from the centre to itself has no length.
+      c.key[points] = EdgeKey{1, cell, phi[4] == 0.0 ? 4 : corner[cc], disc, 0};
     }
     ++points;
   }
@@ -296,7 +310,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
   Walker w{m, out, crossings};
   auto meets_itself = [](int cut, const PlateDiscontinuity& q, int i, int j) {
     return BuildResult::failure(Code::invalid_argument,
-                                "discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) (refine the mesh)",
+                                "continuum.discontinuities.%d: the boundary of '%s' meets itself in cell (%d, %d) (refine the mesh)",
                                 cut, q.name.c_str(), i, j);
   };
   for (int i = 0; i < nx; ++i) w.edge(i, 0, 0, 1);             // bottom, left to right
@@ -339,7 +353,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
       const auto base = static_cast<std::size_t>(cut) * static_cast<std::size_t>(m.nodes);
       double phi[5], mean = 0;
       for (int a = 0; a < 4; ++a) mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>(nodes[a])]);
-      phi[4] = 0.25 * mean;
+      phi[4] = centre_value(phi, mean);
       // The vertex of a key (its side set to key_side), made at (xi, eta) on
       // side `side` by the first segment through it.
       auto vertex = [&](EdgeKey key, int key_side, double xi, double eta, int side) {
@@ -369,7 +383,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         const auto vbase = static_cast<std::size_t>(hv) * static_cast<std::size_t>(m.nodes);
         double vphi[5], vmean = 0;
         for (int a = 0; a < 4; ++a) vmean += (vphi[a] = m.node_phi[vbase + static_cast<std::size_t>(nodes[a])]);
-        vphi[4] = 0.25 * vmean;
+        vphi[4] = centre_value(vphi, vmean);
         const PlateDiscontinuity& qv = m.desc.discontinuities[static_cast<std::size_t>(hv)];
         const bool second_void = qv.kind == PlateDiscontinuity::Kind::hole;
         for (int t = 0; t < 4; ++t) {
@@ -590,7 +604,7 @@ int plate_boundary_segment_material(const PlateModel& m, const PlateBoundarySegm
     const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
     mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>((s.cell[1] + dj) * (nx + 1) + s.cell[0] + di)]);
   }
-  phi[4] = 0.25 * mean;
+  phi[4] = centre_value(phi, mean);  // as the tracer split the segment
   return xfem::side_of(on_triangle(phi, t, xi, eta)) < 0 ? 1 + second : material;
 }
 
