@@ -30,4 +30,11 @@ inline PlateDiscontinuity circle(PlateDiscontinuity::Kind kind, double cx, doubl
   return q;
 }
 
+/// The cells a second discontinuity cuts beside a crack (PlateModel::cell_second_cut).
+inline int cells_cut_by_both(const PlateModel& m) {
+  int n = 0;
+  for (int c : m.cell_second_cut) n += c >= 0 ? 1 : 0;
+  return n;
+}
+
 }  // namespace xfdem::testing

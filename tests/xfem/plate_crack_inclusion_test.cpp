@@ -32,11 +32,7 @@ struct Built {
   PlateWorkspace w;
 };
 
-int cells_cut_by_both(const PlateModel& m) {
-  int n = 0;
-  for (int c : m.cell_second_cut) n += c >= 0 ? 1 : 0;
-  return n;
-}
+using xfdem::testing::cells_cut_by_both;
 
 PlateDiscontinuity band(double a, double b, double e, double nu) {
   PlateDiscontinuity q;

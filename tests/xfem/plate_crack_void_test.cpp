@@ -36,11 +36,7 @@ struct Built {
   PlateWorkspace w;
 };
 
-int cells_cut_by_both(const PlateModel& m) {
-  int n = 0;
-  for (int c : m.cell_second_cut) n += c >= 0 ? 1 : 0;
-  return n;
-}
+using xfdem::testing::cells_cut_by_both;
 
 // The unit square, 40 × 40 cells (h = 0.025), plane stress, static, pulled by
 // σ on its top edge (a roller on the bottom edge, the lower-left corner
