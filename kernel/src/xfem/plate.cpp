@@ -421,6 +421,34 @@ constexpr double kCornerSliverCells = 1e-6;
 /// without a tip is on it (φ = 0; docs/xfem2d.md, "Edge slivers").
 constexpr double kCrackOnNodeCells = 1e-6;
 
+/// A crack segment within kCrackOnNodeCells of a cell of an interior node row
+/// (column) at both ends is put on it (docs/xfem2d.md, "Edge slivers"): its
+/// ends take the row's coordinate, so the row's level set is 0 exactly and
+/// the tip, its cell and the cells behind it agree on where the crack is.
+/// Left alone, a crack 1e-16 … 1e-8 of a cell off a row cuts a strip that
+/// thin off the cells along it, whose Heaviside unknowns the solve's
+/// round-off sets (unilateral faces then chatter or gain energy). The crack
+/// moves by at most kCrackOnNodeCells of a cell.
+void put_cracks_on_near_node_lines(PlateDesc& d) {
+  const double tol = kCrackOnNodeCells * std::min((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
+  for (PlateDiscontinuity& q : d.discontinuities) {
+    if (q.kind != PlateDiscontinuity::Kind::crack || q.shape != PlateDiscontinuity::Shape::polyline) continue;
+    for (int c = 0; c < 2; ++c) {
+      const int n = d.cells[c];
+      const double h = (d.max[c] - d.min[c]) / n;
+      for (std::size_t s = 0; s + 1 < q.points.size(); ++s) {
+        Point2& a = q.points[s];
+        Point2& b = q.points[s + 1];
+        if (std::fabs(a[1 - c] - b[1 - c]) <= tol) continue;  // not along the line: a crossing, left to the corner rule
+        const double line_index = std::round((a[c] - d.min[c]) / h);
+        if (!(line_index >= 1.0 && line_index <= n - 1.0)) continue;  // the domain's own edges are not moved onto
+        const double line = node_coord(d.min[c], d.max[c], static_cast<int>(line_index), n);
+        if (std::fabs(a[c] - line) <= tol && std::fabs(b[c] - line) <= tol) a[c] = b[c] = line;
+      }
+    }
+  }
+}
+
 /// Side of a cell that discontinuity k does not cut: − when some node is strictly negative.
 int uncut_side(const PlateModel& m, int k, const int en[4]) {
   for (int a = 0; a < 4; ++a)
@@ -1848,12 +1876,14 @@ BuildResult validate_plate(const PlateDesc& d) {
 
 // ---- build --------------------------------------------------------------------
 
-BuildResult build_plate(const PlateDesc& d, PlateModel& model, PlateState& state, PlateWorkspace& workspace) {
+BuildResult build_plate(const PlateDesc& desc, PlateModel& model, PlateState& state, PlateWorkspace& workspace) {
   model = PlateModel{};
   state = PlateState{};
   workspace = PlateWorkspace{};
-  if (BuildResult r = validate_plate(d); !r.ok()) return r;
-  model.desc = d;
+  if (BuildResult r = validate_plate(desc); !r.ok()) return r;
+  model.desc = desc;
+  put_cracks_on_near_node_lines(model.desc);
+  const PlateDesc& d = model.desc;
   const int nx = d.cells[0], ny = d.cells[1];
   const int nodes = (nx + 1) * (ny + 1);
   model.nodes = nodes;
