@@ -339,7 +339,9 @@ struct DemModel {
   std::int32_t split = 0;
   /// Largest angular frequency √(K/m_eff) over every possible contact (rad/s).
   double max_contact_omega = 0;
-  /// Stable step of the chosen integrator for the stiffest contact (s).
+  /// Stable step of the chosen integrator for the stiffest contact (s): its
+  /// normal spring, and with friction its tangential spring with the particle
+  /// turning (a mode of its own frequency and damping ratio; docs/dem.md).
   double stable_dt = 0;
   /// The integrator's stable ω·dt (dem_stable_step_factor at the damping ratio).
   double stable_factor = 0;
@@ -598,6 +600,15 @@ double dem_stable_step_factor(DemIntegrator integrator, double damping_ratio);
 /// Spectral radius of one step of `integrator` on the contact oscillator
 /// δ'' + 2ζω δ' + ω² δ = 0 at ω h = y (what dem_stable_step_factor inspects).
 double dem_amplification(DemIntegrator integrator, double damping_ratio, double y);
+
+/// The same for a contact's tangential spring mode ξ'' + 2ζω ξ' + ω² ξ = 0 as
+/// the integrator advances it: Verlet and symplectic Euler as their own
+/// oscillator, RK4 and ABM4 with the spring advanced to first order from ξ_n
+/// at each evaluation and kept as ξ_n + h u_n+1 (docs/dem.md).
+double dem_tangential_amplification(DemIntegrator integrator, double damping_ratio, double y);
+
+/// Stable step factor of the tangential spring mode (as dem_stable_step_factor).
+double dem_tangential_stable_step_factor(DemIntegrator integrator, double damping_ratio);
 
 /// Model, state and workspace of one world, for callers who do not need them
 /// apart (the split exists so that many states can share one model).

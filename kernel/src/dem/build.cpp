@@ -6,6 +6,7 @@
 #include <map>
 #include <new>
 #include <utility>
+#include <vector>
 
 #include "dem/contact_parameters.hpp"
 #include "dem/forces.hpp"
@@ -231,41 +232,70 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   // ---- stable step -----------------------------------------------------------
   const bool hertz = desc.law == ContactLaw::hertz;
   const bool pairs_possible = m.features.broad_phase != BroadPhase::none;
-  double omega2 = hertz ? hertz_omega2(desc, pairs_possible) : max_contact_omega2(desc, pairs_possible);
-  if (hertz && desc.friction > 0) {
-    // S_t/S_n = 4 G*/E* ≤ 4 max over the bodies of (1/E)/(1/G) = 2(1 − ν)/(2 − ν)
-    // (a mediant of the two bodies' ratios), times (1 + m r²/I) for the turning.
-    double worst = 1.0;
-    for (const auto& p : desc.particles) {
-      const double ratio = 2.0 * (1.0 - p.poisson_ratio) / (2.0 - p.poisson_ratio);
-      worst = std::max(worst, ratio * (1.0 + p.mass * p.radius * p.radius / inertia_of(p)));
-    }
-    for (const auto& pl : desc.planes)
-      if (!std::isnan(pl.poisson_ratio))
-        for (const auto& p : desc.particles)
-          worst = std::max(worst, 2.0 * (1.0 - pl.poisson_ratio) / (2.0 - pl.poisson_ratio) *
-                                      (1.0 + p.mass * p.radius * p.radius / inertia_of(p)));
-    omega2 *= worst;
-  } else if (m.features.rotation && desc.friction > 0) {
-    // The tangential spring with the particle free to turn: ω² = k_t (1/m + r²/I)
-    // per body, k_t/k_n (1 + m r²/I) times the normal one at most.
-    double worst = 1.0;
-    for (const auto& p : desc.particles)
-      worst = std::max(worst, m.tangential_ratio * (1.0 + p.mass * p.radius * p.radius / inertia_of(p)));
-    omega2 *= worst;
-  }
-  m.max_contact_omega = std::sqrt(omega2);
+  const double omega2 = hertz ? hertz_omega2(desc, pairs_possible) : max_contact_omega2(desc, pairs_possible);
   // hertz: η = −2√(5/6) β √(S m*) is the damping ratio ζ = −√(5/6) β.
   const double zeta = hertz ? 0.5 * dem_detail::hertz_damping(desc.restitution) : desc.damping_ratio;
   const double factor = dem_stable_step_factor(desc.integrator, zeta);
+  m.stable_factor = factor;  // the normal springs' (the network bound counts those only)
+  m.max_contact_omega = std::sqrt(omega2);
   m.stable_dt = omega2 > 0 ? factor / m.max_contact_omega : INFINITY;
-  m.stable_factor = factor;
-  if (desc.reject_unstable_dt && desc.dt > m.stable_dt)
+  // The tangential spring with the particle free to turn is a mode of its
+  // own: a body's inverse mass there is 1/m + r²/I = g/m, g = 1 + m r²/I, so
+  // ω_t² ≤ s g ω_n² (s = k_t/k_n; hertz: S_t/S_n = 4 G*/E* ≤ 4 max over the
+  // bodies of (1/E)/(1/G) = 2(1 − ν)/(2 − ν), a mediant of their ratios), and
+  // its dashpot, η_t = 2ζ√(k_t m*) on the translational m*, is a damping
+  // ratio ζ_t = ζ√(m* Σ g/m) ≤ ζ√g: a disk (g = 3) at ζ = 0.9 has ζ_t = 1.56,
+  // which the integrators hold at a smaller ω·dt than the normal mode's ζ;
+  // and RK4 and ABM4 advance the spring to first order, a scheme of its own
+  // (dem_tangential_stable_step_factor). Left to the normal mode's limit, a
+  // sticking contact rang between ±μF_n and froze a rolling disk's slip.
+  // Bounded by the largest s g and the smallest factor over the particles' ζ√g.
+  double omega2_t = 0, mode_zeta = zeta;
+  if ((hertz || m.features.rotation) && desc.friction > 0 && omega2 > 0) {
+    double stiffness_ratio = hertz ? 0.0 : m.tangential_ratio, g_max = 1.0;
+    std::vector<double> turning;
+    for (const auto& p : desc.particles) {
+      const double g = 1.0 + p.mass * p.radius * p.radius / inertia_of(p);
+      turning.push_back(g);
+      g_max = std::max(g_max, g);
+      if (hertz) stiffness_ratio = std::max(stiffness_ratio, 2.0 * (1.0 - p.poisson_ratio) / (2.0 - p.poisson_ratio));
+    }
+    if (hertz)
+      for (const auto& pl : desc.planes)
+        if (!std::isnan(pl.poisson_ratio))
+          stiffness_ratio = std::max(stiffness_ratio, 2.0 * (1.0 - pl.poisson_ratio) / (2.0 - pl.poisson_ratio));
+    omega2_t = omega2 * stiffness_ratio * g_max;
+    std::sort(turning.begin(), turning.end());
+    turning.erase(std::unique(turning.begin(), turning.end()), turning.end());
+    // Many distinct g (inertias of their own): 32 samples of the range, ends included.
+    constexpr std::size_t kSamples = 32;
+    const std::size_t count = std::min(turning.size(), kSamples);
+    double factor_t = INFINITY;
+    for (std::size_t k = 0; k < count; ++k) {
+      const double g = turning.size() <= kSamples ? turning[k]
+                                                   : turning.front() + (turning.back() - turning.front()) *
+                                                                           static_cast<double>(k) / (kSamples - 1);
+      const double f = dem_tangential_stable_step_factor(desc.integrator, zeta * std::sqrt(g));
+      if (f < factor_t) factor_t = f, mode_zeta = zeta * std::sqrt(g);
+    }
+    const double dt_t = factor_t / std::sqrt(omega2_t);
+    if (dt_t < m.stable_dt) m.stable_dt = dt_t;
+    m.max_contact_omega = std::max(m.max_contact_omega, std::sqrt(omega2_t));
+  }
+  if (desc.reject_unstable_dt && desc.dt > m.stable_dt) {
+    if (omega2_t > 0 && m.stable_dt < factor / std::sqrt(omega2))
+      return BuildResult::failure(Code::unstable_time_step,
+                                  "dt: %g s exceeds the stable step %g s of integrator %s for the stiffest contact's "
+                                  "tangential spring with the particle turning (omega_t = %g rad/s, damping ratio "
+                                  "%g of that mode; stable omega*dt = %.4f)",
+                                  desc.dt, m.stable_dt, integrator_name(desc.integrator), std::sqrt(omega2_t),
+                                  mode_zeta, m.stable_dt * std::sqrt(omega2_t));
     return BuildResult::failure(Code::unstable_time_step,
                                 "dt: %g s exceeds the stable step %g s of integrator %s for the stiffest contact "
                                 "(omega = %g rad/s, damping ratio %g; stable omega*dt = %.4f)",
-                                desc.dt, m.stable_dt, integrator_name(desc.integrator), m.max_contact_omega,
-                                zeta, factor);
+                                desc.dt, m.stable_dt, integrator_name(desc.integrator), std::sqrt(omega2), zeta,
+                                factor);
+  }
 
   // ---- particle columns ------------------------------------------------------
   const auto un = static_cast<std::size_t>(n);
