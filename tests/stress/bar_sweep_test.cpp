@@ -12,6 +12,7 @@
 #include <string>
 
 #include "stress/bar_sweeps.hpp"
+#include "support/sanitizers.hpp"
 
 namespace xfdem::stress {
 namespace {
@@ -47,7 +48,9 @@ void run_and_check(BarDesc d, const char* label) {
 // k from 1·E·A to 1e6·E·A per metre, Newmark (¼, ½) and (0.4, 0.6), both
 // methods, fixed and absorbing base, interface mid-element (14.5 m).
 void penalty_sweep(Behaviour behaviour, std::initializer_list<Newmark> schemes = {kTrapezoidal, kPaper}) {
-  for (double multiple : {1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6})
+  for (double multiple : {1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6}) {
+    // Under the sanitizer the decades 1, 1e3 and 1e6 only.
+    if (test::kUnderAsan && multiple != 1.0 && multiple != 1e3 && multiple != 1e6) continue;
     for (Newmark nm : schemes)
       for (Method method : {Method::xfem, Method::fem})
         for (Base base : {Base::fixed, Base::absorbing}) {
@@ -63,6 +66,7 @@ void penalty_sweep(Behaviour behaviour, std::initializer_list<Newmark> schemes =
                         multiple, nm.beta, nm.gamma, name(method), name(base));
           run_and_check(d, label);
         }
+  }
 }
 
 // Interface at x_e + f·h in element 14 (x_e = 14 m, h = 1 m), f = 1e-1 … 1e-9

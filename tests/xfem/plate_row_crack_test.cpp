@@ -236,7 +236,8 @@ TEST(PlateRowCrack, StaticAnswerIsContinuousAcrossTheRule) {
 // off the row (outside the rule) and one that only ends near it keep their
 // points.
 TEST(PlateRowCrack, CrackWithATipAlongANodeRowRunsDynamic) {
-  constexpr int kSteps = 2000;
+  // Under the sanitizer 300 steps (the failures above came within 60).
+  const int kSteps = test::kUnderAsan ? 300 : 2000;
   const double h = 1.0 / 12.0, row = 5.0 / 12.0;
   const double deltas[] = {0.0, 1e-14, -1e-14, 1e-12, -1e-12, 1e-9, -1e-9, 1e-7, -1e-7, 9e-7, -9e-7};
   for (const double radius : {0.0, 0.3}) {
@@ -285,9 +286,9 @@ TEST(PlateRowCrack, CrackWithATipAlongANodeRowRunsDynamic) {
         ASSERT_EQ(plate_step(m, st, ws), StepStatus::ok) << "radius " << radius << " y - row " << y - row << " step " << i;
       if (reference.empty()) {
         reference = st.u;
-        std::printf("crack with a tip along a node row, radius %g: 2000 steps ok at every offset; top u_y at 4 ms "
+        std::printf("crack with a tip along a node row, radius %g: %d steps ok at every offset; top u_y at the end "
                     "%.6e m\n",
-                    radius, plate_displacement(m, st, 1.0, 1.0, 1));
+                    radius, kSteps, plate_displacement(m, st, 1.0, 1.0, 1));
       } else {
         ASSERT_EQ(st.u.size(), reference.size());
         for (std::size_t i = 0; i < st.u.size(); ++i) ASSERT_EQ(st.u[i], reference[i]) << "y - row " << y - row;

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <vector>
 
+#include "support/sanitizers.hpp"
 #include "xfdem/plate.hpp"
 #include "xfdem/platform/alloc_guard.hpp"
 #include "xfdem/state_io.hpp"
@@ -584,6 +585,8 @@ TEST(PlateTip, CrackPassingNearANodeBuildsAndMovesTheAnswerContinuously) {
           if ((faces == Faces::unilateral && !dynamic) || (faces == Faces::free && dynamic)) continue;
           double ans[kN][kAns] = {};
           for (int q = 0; q < kN; ++q) {
+            // Under the sanitizer the dynamic runs take δ = 0, ±1e-8 and ±1e-12 only.
+            if (dynamic && test::kUnderAsan && !(q == 0 || q == 7 || q == 8 || q == 11 || q == 12)) continue;
             PlateDesc d;
             d.plane = PlateDesc::Plane::strain;
             d.youngs_modulus = kE, d.poisson_ratio = kNu, d.density = 7800, d.thickness = 1.0;
