@@ -259,6 +259,17 @@ INSTANTIATE_TEST_SUITE_P(
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[1,0.5],"
                       "\"radius\":0.2}}]'",
                       "scene key 'output.probes.4.at': (1, 0.5) is in a void"},
+        // A polygon written closed (its first vertex again at the end), or with
+        // a vertex twice in a row, repeats a vertex; it does not cross itself.
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"polygon\":[[0.3,0.3],[0.7,0.3],"
+                      "[0.7,0.7],[0.3,0.7],[0.3,0.3]]}]'",
+                      "scene key 'continuum.discontinuities.0.polygon': vertex 4 repeats vertex 0 (a polygon closes "
+                      "itself; give each vertex once)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"i\",\"type\":\"inclusion\",\"polygon\":[[0.3,0.3],"
+                      "[0.7,0.3],[0.7,0.3],[0.7,0.7],[0.3,0.7]],\"material\":{\"youngs_modulus\":1e10,\"poisson_ratio\":0.3,"
+                      "\"density\":1000}}]'",
+                      "scene key 'continuum.discontinuities.0.polygon': vertex 2 repeats vertex 1 (a polygon closes "
+                      "itself; give each vertex once)"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[1,-1],[1,2]]}]'",
                       "scene key 'output.probes.4.at': (1, 0.5) is on a discontinuity"},
         PlateBadInput{"--set continuum.cells=[90000,1] --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","

@@ -274,6 +274,14 @@ BuildResult validate_discontinuities(const PlateDesc& d) {
       if (q.points.size() < 3)
         return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: needs at least 3 points, got %zu",
                                     k, q.points.size());
+      // A repeated vertex is not a crossing: name it (a polygon written closed
+      // repeats its first vertex at the end).
+      for (std::size_t i = 0, n = q.points.size(); i < n; ++i)
+        if (q.points[i] == q.points[(i + 1) % n])
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.polygon: vertex %zu repeats vertex %zu (a polygon closes "
+                                      "itself; give each vertex once)",
+                                      k, i + 1 == n ? i : i + 1, i + 1 == n ? std::size_t{0} : i);
       if (xfem::polyline_self_intersects(q.points, true))
         return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: crosses itself", k);
       double area = 0.0;
