@@ -258,7 +258,14 @@ INSTANTIATE_TEST_SUITE_P(
                       "scene key 'continuum.discontinuities.1': the inclusion 'i' overlaps the void 'h'"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[1,0.5],"
                       "\"radius\":0.2}}]'",
-                      "scene key 'output.probes.4.at': (1, 0.5) is in a void"},
+                      "scene key 'output.probes.4.at': (1, 0.5) is inside void 'h': there is no material there"},
+        // A point force or a prescribed node inside a void would act on nothing.
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],"
+                      "\"radius\":0.2}}]' --set 'continuum.loads=[{\"at\":[0.5,0.5],\"force\":[0,1e5],\"shape\":\"step\"}]'",
+                      "scene key 'continuum.loads.0.at': (0.5, 0.5) is inside void 'h': there is no material there"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],"
+                      "\"radius\":0.2}}]' --set 'continuum.prescribed=[{\"at\":[0.5,0.5],\"displacement\":[0,1e-3]}]'",
+                      "scene key 'continuum.prescribed.0.at': (0.5, 0.5) is inside void 'h': there is no material there"},
         // A polygon written closed (its first vertex again at the end), or with
         // a vertex twice in a row, repeats a vertex; it does not cross itself.
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"polygon\":[[0.3,0.3],[0.7,0.3],"

@@ -341,7 +341,10 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
     case 1:
       p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) +
                        ") is on a discontinuity (within 1e-9 of a cell): its value there has two sides");
-    case 2: p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is in a void: there is no material there");
+    case 2:
+      p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is inside void '" +
+                       d.discontinuities[static_cast<std::size_t>(plate_void_at(d, at[0], at[1]))].name +
+                       "': there is no material there");
     default: break;
   }
   if (quantity == "stress") {

@@ -151,14 +151,20 @@ bool polyline_meets_box(const std::vector<Point2>& p, const double lo[2], const 
   return false;
 }
 
-/// Point x strictly inside some void (its exact level set negative): no material there.
-bool in_void(const PlateDesc& d, Point2 x) {
-  for (const PlateDiscontinuity& h : d.discontinuities)
+/// The void whose interior holds x (its exact level set negative: no
+/// material there), as its index in d.discontinuities, or -1. The one test
+/// of "in a void" (crack ends, probes, point loads, prescribed nodes).
+int void_at(const PlateDesc& d, Point2 x) {
+  for (std::size_t k = 0; k < d.discontinuities.size(); ++k) {
+    const PlateDiscontinuity& h = d.discontinuities[k];
     if (h.kind == PlateDiscontinuity::Kind::hole && h.shape != PlateDiscontinuity::Shape::polyline &&
         level_set(h, h.points, x) < 0.0)
-      return true;
-  return false;
+      return static_cast<int>(k);
+  }
+  return -1;
 }
+
+bool in_void(const PlateDesc& d, Point2 x) { return void_at(d, x) >= 0; }
 
 /// A crack end strictly inside the domain and not inside a void is a tip
 /// (an end inside a void has no material about it).
@@ -1878,6 +1884,19 @@ BuildResult validate_plate(const PlateDesc& d) {
     return fail("tip_enrichment.radius: must be finite and >= 0 (m; 0: the nodes of the tip's cell only), got %g",
                 d.tip_radius);
   if (BuildResult r = validate_discontinuities(d); !r.ok()) return r;
+  // A point force or a prescribed node inside a void would act on nothing.
+  for (std::size_t l = 0; l < d.loads.size(); ++l)
+    if (const PlateLoad& ld = d.loads[l]; ld.kind == PlateLoad::Kind::point_force)
+      if (const int v = void_at(d, {ld.at[0], ld.at[1]}); v >= 0)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "loads.%zu.at: (%g, %g) is inside void '%s': there is no material there", l,
+                                    ld.at[0], ld.at[1], d.discontinuities[static_cast<std::size_t>(v)].name.c_str());
+  for (std::size_t p = 0; p < d.prescribed.size(); ++p)
+    if (const int v = void_at(d, {d.prescribed[p].at[0], d.prescribed[p].at[1]}); v >= 0)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "prescribed.%zu.at: (%g, %g) is inside void '%s': there is no material there", p,
+                                  d.prescribed[p].at[0], d.prescribed[p].at[1],
+                                  d.discontinuities[static_cast<std::size_t>(v)].name.c_str());
   if (BuildResult r = validate_energy_check(d.energy_check); !r.ok()) return r;
   return BuildResult::success();
 }
@@ -3773,21 +3792,21 @@ int plate_point_region(const PlateDesc& d, double x, double y, double tolerance)
   double xi = 0.0, eta = 0.0;
   if (!locate_axis(d.min[0], d.max[0], d.cells[0], x, ci, xi) || !locate_axis(d.min[1], d.max[1], d.cells[1], y, cj, eta))
     return -1;
-  int region = 0;
   bool on_crack = false;
   for (const PlateDiscontinuity& q : d.discontinuities) {
     if (q.kind == PlateDiscontinuity::Kind::crack) {
       on_crack = on_crack || std::fabs(xfem::polyline_level_set(q.points, {x, y})) <= tolerance;
       continue;
     }
-    const double phi = level_set(q, q.points, {x, y});
-    if (std::fabs(phi) <= tolerance) return 1;
-    if (q.kind == PlateDiscontinuity::Kind::hole && phi < 0.0) region = 2;
+    if (std::fabs(level_set(q, q.points, {x, y})) <= tolerance) return 1;
   }
+  const int region = void_at(d, {x, y}) >= 0 ? 2 : 0;
   // A crack's line inside a void (a crack from a hole) has no material on
   // either side: a point there is in the void.
   return on_crack && region != 2 ? 1 : region;
 }
+
+int plate_void_at(const PlateDesc& d, double x, double y) { return void_at(d, {x, y}); }
 
 PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
   PlateEnergy e;
