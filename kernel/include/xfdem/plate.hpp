@@ -525,6 +525,13 @@ int plate_point_region(const PlateDesc& desc, double x, double y, double toleran
 /// prescribed nodes in a void use.
 int plate_void_at(const PlateDesc& desc, double x, double y);
 
+/// What an end of a crack is: a tip (inside the domain by more than 1e-6 of
+/// a cell (of min(h_x, h_y)) and not in a void), on the boundary (on or
+/// outside it, or within 1e-6 of a cell of it: the tiny-cut rule puts such
+/// an end on the boundary), or in a void (plate_void_at names which).
+enum class PlateCrackEnd : std::uint8_t { tip, on_boundary, in_void };
+PlateCrackEnd plate_crack_end(const PlateDesc& desc, int crack, bool at_end);
+
 /// Q4 element matrices of a rectangle hx × hy (2×2 Gauss, exact for it):
 /// stiffness t∫BᵀDB and consistent mass ρt∫NᵀN, 8×8 row-major, unknowns
 /// (x0, y0, …, x3, y3), nodes counter-clockwise from the lower left.
