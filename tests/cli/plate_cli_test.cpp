@@ -277,6 +277,29 @@ INSTANTIATE_TEST_SUITE_P(
                       "\"density\":1000}}]'",
                       "scene key 'continuum.discontinuities.0.polygon': vertex 2 repeats vertex 1 (a polygon closes "
                       "itself; give each vertex once)"},
+        // A stress_intensity probe at a crack end that is not a tip: inside a
+        // void, on the boundary, outside it, within 1e-6 of a cell of it.
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-0.1,0.625],[0.5,0.625]]},"
+                      "{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],\"radius\":0.2}}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (0.5, 0.625) is not a crack tip: it ends "
+                      "inside void 'h' (no material about it)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.5,0.625],[2,0.625]]}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (2, 0.625) is not a crack tip: it ends on "
+                      "or outside the plate's boundary (within 1e-6 of a cell counts as on it)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.5,0.625],[2.5,0.625]]}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (2.5, 0.625) is not a crack tip: it ends on "
+                      "or outside the plate's boundary (within 1e-6 of a cell counts as on it)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.5,0.625],[1.99999999999,0.625]]}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (1.99999999999, 0.625) is not a crack tip: it ends on "
+                      "or outside the plate's boundary (within 1e-6 of a cell counts as on it)"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[1,-1],[1,2]]}]'",
                       "scene key 'output.probes.4.at': (1, 0.5) is on a discontinuity"},
         PlateBadInput{"--set continuum.cells=[90000,1] --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","
