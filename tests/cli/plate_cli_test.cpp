@@ -258,7 +258,48 @@ INSTANTIATE_TEST_SUITE_P(
                       "scene key 'continuum.discontinuities.1': the inclusion 'i' overlaps the void 'h'"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[1,0.5],"
                       "\"radius\":0.2}}]'",
-                      "scene key 'output.probes.4.at': (1, 0.5) is in a void"},
+                      "scene key 'output.probes.4.at': (1, 0.5) is inside void 'h': there is no material there"},
+        // A point force or a prescribed node inside a void would act on nothing.
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],"
+                      "\"radius\":0.2}}]' --set 'continuum.loads=[{\"at\":[0.5,0.5],\"force\":[0,1e5],\"shape\":\"step\"}]'",
+                      "scene key 'continuum.loads.0.at': (0.5, 0.5) is inside void 'h': there is no material there"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],"
+                      "\"radius\":0.2}}]' --set 'continuum.prescribed=[{\"at\":[0.5,0.5],\"displacement\":[0,1e-3]}]'",
+                      "scene key 'continuum.prescribed.0.at': (0.5, 0.5) is inside void 'h': there is no material there"},
+        // A polygon written closed (its first vertex again at the end), or with
+        // a vertex twice in a row, repeats a vertex; it does not cross itself.
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"h\",\"type\":\"void\",\"polygon\":[[0.3,0.3],[0.7,0.3],"
+                      "[0.7,0.7],[0.3,0.7],[0.3,0.3]]}]'",
+                      "scene key 'continuum.discontinuities.0.polygon': vertex 4 repeats vertex 0 (a polygon closes "
+                      "itself; give each vertex once)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"i\",\"type\":\"inclusion\",\"polygon\":[[0.3,0.3],"
+                      "[0.7,0.3],[0.7,0.3],[0.7,0.7],[0.3,0.7]],\"material\":{\"youngs_modulus\":1e10,\"poisson_ratio\":0.3,"
+                      "\"density\":1000}}]'",
+                      "scene key 'continuum.discontinuities.0.polygon': vertex 2 repeats vertex 1 (a polygon closes "
+                      "itself; give each vertex once)"},
+        // A stress_intensity probe at a crack end that is not a tip: inside a
+        // void, on the boundary, outside it, within 1e-6 of a cell of it.
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[-0.1,0.625],[0.5,0.625]]},"
+                      "{\"name\":\"h\",\"type\":\"void\",\"circle\":{\"centre\":[0.5,0.5],\"radius\":0.2}}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (0.5, 0.625) is not a crack tip: it ends "
+                      "inside void 'h' (no material about it)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.5,0.625],[2,0.625]]}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (2, 0.625) is not a crack tip: it ends on "
+                      "or outside the plate's boundary (within 1e-6 of a cell counts as on it)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.5,0.625],[2.5,0.625]]}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (2.5, 0.625) is not a crack tip: it ends on "
+                      "or outside the plate's boundary (within 1e-6 of a cell counts as on it)"},
+        PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[0.5,0.625],[1.99999999999,0.625]]}]' "
+                      "--set 'output.probes=[{\"name\":\"K\",\"quantity\":\"stress_intensity\",\"crack\":\"c\",\"tip\":\"end\","
+                      "\"mode\":\"I\"}]'",
+                      "scene key 'output.probes.0.tip': the end of crack 'c' at (1.99999999999, 0.625) is not a crack tip: it ends on "
+                      "or outside the plate's boundary (within 1e-6 of a cell counts as on it)"},
         PlateBadInput{"--set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\",\"points\":[[1,-1],[1,2]]}]'",
                       "scene key 'output.probes.4.at': (1, 0.5) is on a discontinuity"},
         PlateBadInput{"--set continuum.cells=[90000,1] --set 'continuum.discontinuities=[{\"name\":\"c\",\"type\":\"crack\","

@@ -679,3 +679,61 @@ TEST(PlateTip, CrackPassingNearANodeBuildsAndMovesTheAnswerContinuously) {
   std::printf("worst relative change per delta: %.3g [<= 10]; largest unknown over the largest standard one, dynamic: "
               "%.3g (printed)\n", worst_all, worst_ratio);
 }
+
+// A crack end within 1e-6 of a cell of the domain's boundary is on it
+// (docs/xfem2d.md, "Tiny cuts (the rule)"): not a tip, and the crack is the
+// one that ends on the boundary. The plate [0, 1]², 10 × 10 cells (h = 0.1),
+// plane strain, E = 1e9 Pa, ν = 0.3, static, the bottom edge clamped, 1 MPa
+// pulling the top; an edge crack y = 0.53 from the left edge to x = 0.55 (and
+// its mirror, from x = 0.45 to the right edge), its boundary end δ of a cell
+// inside. Before the rule δ = 1e-12 was a tip and the elastic energy fell
+// from 2454 J to 1056 J (×2.3 for a move of 1e-13 m). Asserted: δ = 1e-13,
+// 1e-9 and 9e-7 put the end on the boundary (to the bit), leave one tip and
+// give the energy of δ = 0 to round-off (1e-12 relative); δ = 1e-3 is a tip
+// (two tips); plate_crack_end says the same of the written ends.
+TEST(PlateTip, CrackEndWithinATinyCutOfTheBoundaryIsOnIt) {
+  const double h = 0.1;
+  for (const bool mirrored : {false, true}) {
+    double reference = 0.0;
+    for (const double delta : {0.0, 1e-13, 1e-9, 9e-7, 1e-3}) {
+      PlateDesc d;
+      d.plane = PlateDesc::Plane::strain;
+      d.youngs_modulus = 1e9, d.poisson_ratio = 0.3, d.density = 1000, d.thickness = 1.0;
+      d.analysis = PlateDesc::Analysis::statics;
+      d.min[0] = d.min[1] = 0.0, d.max[0] = d.max[1] = 1.0;
+      d.cells[0] = d.cells[1] = 10;
+      PlateDiscontinuity c;
+      c.name = "c";
+      const double edge = mirrored ? 1.0 - delta * h : delta * h;
+      c.points = mirrored ? std::vector<xfem::Point2>{{0.45, 0.53}, {edge, 0.53}}
+                          : std::vector<xfem::Point2>{{edge, 0.53}, {0.55, 0.53}};
+      d.discontinuities.push_back(c);
+      d.supports.push_back({PlateEdge::bottom, {true, true}, false});
+      PlateLoad top;
+      top.edge = PlateEdge::top;
+      top.value[1] = 1e6;
+      d.loads.push_back(top);
+      const bool on_boundary = delta < 1e-6;
+      EXPECT_EQ(plate_crack_end(d, 0, mirrored), on_boundary ? PlateCrackEnd::on_boundary : PlateCrackEnd::tip)
+          << "delta " << delta;
+      EXPECT_EQ(plate_crack_end(d, 0, !mirrored), PlateCrackEnd::tip);
+      PlateModel m;
+      PlateState st;
+      PlateWorkspace ws;
+      const BuildResult r = build_plate(d, m, st, ws);
+      ASSERT_TRUE(r.ok()) << "delta " << delta << ": " << r.message;
+      const double written = mirrored ? d.discontinuities[0].points[1][0] : d.discontinuities[0].points[0][0];
+      const double built = mirrored ? m.desc.discontinuities[0].points[1][0] : m.desc.discontinuities[0].points[0][0];
+      EXPECT_EQ(built, on_boundary ? (mirrored ? 1.0 : 0.0) : written) << "delta " << delta;
+      EXPECT_EQ(m.tips.size(), on_boundary ? 1u : 2u) << "delta " << delta;
+      const double energy = plate_energy(m, st).elastic;
+      ASSERT_TRUE(std::isfinite(energy));
+      if (delta == 0.0) reference = energy;
+      if (on_boundary) {
+        EXPECT_NEAR(energy, reference, 1e-12 * reference) << "delta " << delta;
+      }
+      std::printf("edge crack end %s, %g of a cell inside: elastic energy %.10g J, %zu tip(s)\n",
+                  mirrored ? "right" : "left", delta, energy, m.tips.size());
+    }
+  }
+}

@@ -282,6 +282,18 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
     const bool at_end = p.choice("tip", {"start", "end"}) == "end";
     const auto& points = d.discontinuities[static_cast<std::size_t>(index)].points;
     const std::array<double, 2> tip = at_end ? points.back() : points.front();
+    const std::string which = "the " + std::string(at_end ? "end" : "start") + " of crack '" + name + "' at (" +
+                              number(tip[0]) + ", " + number(tip[1]) + ") is not a crack tip: ";
+    // The kernel's own rule (an end within 1e-6 of a cell of the boundary is on it).
+    switch (plate_crack_end(d, index, at_end)) {
+      case PlateCrackEnd::on_boundary:
+        p.fail("tip", which + "it ends on or outside the plate's boundary (within 1e-6 of a cell counts as on it)");
+      case PlateCrackEnd::in_void:
+        p.fail("tip", which + "it ends inside void '" +
+                          d.discontinuities[static_cast<std::size_t>(plate_void_at(d, tip[0], tip[1]))].name +
+                          "' (no material about it)");
+      case PlateCrackEnd::tip: break;
+    }
     // The interaction integral's domain: the nodes within `radius` of the tip
     // (q = 1 there), which must all be inside the plate. The radius is
     // kStressIntensityCells cells, or less for a tip nearer the boundary than
@@ -289,9 +301,6 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
     // a larger error: docs/xfem2d.md).
     const double cell = std::max((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
     const double reach = std::min({tip[0] - d.min[0], d.max[0] - tip[0], tip[1] - d.min[1], d.max[1] - tip[1]});
-    if (!(reach > 0.0))
-      p.fail("tip", "the " + std::string(at_end ? "end" : "start") + " of crack '" + name + "' at (" + number(tip[0]) +
-                        ", " + number(tip[1]) + ") is not inside the plate: it is not a tip");
     const double radius = std::min(kStressIntensityCells * cell, kStressIntensityShrink * reach);
     if (!(radius >= kStressIntensityMinCells * cell))
       p.fail("tip", "the " + std::string(at_end ? "end" : "start") + " tip of crack '" + name + "' is " + number(reach) +
@@ -341,7 +350,10 @@ void parse_plate_probe(ObjectReader& p, const PlateDesc& d, Probe& probe) {
     case 1:
       p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) +
                        ") is on a discontinuity (within 1e-9 of a cell): its value there has two sides");
-    case 2: p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is in a void: there is no material there");
+    case 2:
+      p.fail("at", "(" + number(at[0]) + ", " + number(at[1]) + ") is inside void '" +
+                       d.discontinuities[static_cast<std::size_t>(plate_void_at(d, at[0], at[1]))].name +
+                       "': there is no material there");
     default: break;
   }
   if (quantity == "stress") {

@@ -519,6 +519,19 @@ void plate_stress_intensity(const PlateModel& model, const PlateState& state, in
 /// hole (a point on a crack's line inside a hole too: no material there).
 int plate_point_region(const PlateDesc& desc, double x, double y, double tolerance);
 
+/// The void whose interior holds the point (its exact level set negative:
+/// no material there), as its index in desc.discontinuities, or −1. The
+/// test plate_point_region's 2 and the refusals of point loads and
+/// prescribed nodes in a void use.
+int plate_void_at(const PlateDesc& desc, double x, double y);
+
+/// What an end of a crack is: a tip (inside the domain by more than 1e-6 of
+/// a cell (of min(h_x, h_y)) and not in a void), on the boundary (on or
+/// outside it, or within 1e-6 of a cell of it: the tiny-cut rule puts such
+/// an end on the boundary), or in a void (plate_void_at names which).
+enum class PlateCrackEnd : std::uint8_t { tip, on_boundary, in_void };
+PlateCrackEnd plate_crack_end(const PlateDesc& desc, int crack, bool at_end);
+
 /// Q4 element matrices of a rectangle hx × hy (2×2 Gauss, exact for it):
 /// stiffness t∫BᵀDB and consistent mass ρt∫NᵀN, 8×8 row-major, unknowns
 /// (x0, y0, …, x3, y3), nodes counter-clockwise from the lower left.

@@ -98,11 +98,6 @@ std::vector<Point2> extended_polyline(const PlateDesc& d, const Disc& q) {
   return p;
 }
 
-/// Strictly inside the domain.
-bool strictly_inside(const PlateDesc& d, Point2 x) {
-  return x[0] > d.min[0] && x[0] < d.max[0] && x[1] > d.min[1] && x[1] < d.max[1];
-}
-
 /// Clips closed segment [a, b] to the box [lo, hi] (Liang-Barsky): the
 /// parameter range [t0, t1] inside; false when it misses the box. `open`: the
 /// open box (a segment along a face misses it).
@@ -151,20 +146,50 @@ bool polyline_meets_box(const std::vector<Point2>& p, const double lo[2], const 
   return false;
 }
 
-/// Point x strictly inside some void (its exact level set negative): no material there.
-bool in_void(const PlateDesc& d, Point2 x) {
-  for (const PlateDiscontinuity& h : d.discontinuities)
+/// The void whose interior holds x (its exact level set negative: no
+/// material there), as its index in d.discontinuities, or -1. The one test
+/// of "in a void" (crack ends, probes, point loads, prescribed nodes).
+int void_at(const PlateDesc& d, Point2 x) {
+  for (std::size_t k = 0; k < d.discontinuities.size(); ++k) {
+    const PlateDiscontinuity& h = d.discontinuities[k];
     if (h.kind == PlateDiscontinuity::Kind::hole && h.shape != PlateDiscontinuity::Shape::polyline &&
         level_set(h, h.points, x) < 0.0)
-      return true;
-  return false;
+      return static_cast<int>(k);
+  }
+  return -1;
 }
 
-/// A crack end strictly inside the domain and not inside a void is a tip
-/// (an end inside a void has no material about it).
-bool end_is_tip(const PlateDesc& d, const PlateDiscontinuity& q, bool at_end) {
+bool in_void(const PlateDesc& d, Point2 x) { return void_at(d, x) >= 0; }
+
+/// The tiny-cut rule for tips: a tip within this fraction of a cell of a
+/// cell's closed box touches the cell (as the tip's cell's "just behind the
+/// tip" and the boundary refusal, 1e-6); a crack end within it of the
+/// domain's boundary is on the boundary (not a tip).
+constexpr double kTipTouch = 1e-6;
+
+/// kTipTouch of a cell (of min(h_x, h_y)), in metres.
+double tip_touch(const PlateDesc& d) {
+  return kTipTouch * std::min((d.max[0] - d.min[0]) / d.cells[0], (d.max[1] - d.min[1]) / d.cells[1]);
+}
+
+/// Inside the domain by more than kTipTouch of a cell: an end nearer the
+/// boundary than that is on it.
+bool inside_past_touch(const PlateDesc& d, Point2 x) {
+  const double tol = tip_touch(d);
+  return x[0] - d.min[0] > tol && d.max[0] - x[0] > tol && x[1] - d.min[1] > tol && d.max[1] - x[1] > tol;
+}
+
+PlateCrackEnd crack_end_kind(const PlateDesc& d, const PlateDiscontinuity& q, bool at_end) {
   const Point2 end = at_end ? q.points.back() : q.points.front();
-  return strictly_inside(d, end) && !in_void(d, end);
+  if (!inside_past_touch(d, end)) return PlateCrackEnd::on_boundary;
+  return in_void(d, end) ? PlateCrackEnd::in_void : PlateCrackEnd::tip;
+}
+
+/// A crack end inside the domain by more than kTipTouch of a cell and not
+/// inside a void is a tip (an end inside a void has no material about it;
+/// one within kTipTouch of a cell of the boundary is on it).
+bool end_is_tip(const PlateDesc& d, const PlateDiscontinuity& q, bool at_end) {
+  return crack_end_kind(d, q, at_end) == PlateCrackEnd::tip;
 }
 
 bool crack_has_tip(const PlateDesc& d, const PlateDiscontinuity& q) {
@@ -172,10 +197,11 @@ bool crack_has_tip(const PlateDesc& d, const PlateDiscontinuity& q) {
 }
 
 /// The crack cuts only the cells its polyline enters (not its extension):
-/// some end is inside the domain (a tip, or an end inside a void).
+/// some end is inside the domain (a tip, or an end inside a void; an end
+/// within kTipTouch of a cell of the boundary is on it).
 bool crack_is_bounded(const PlateDesc& d, const PlateDiscontinuity& q) {
   return q.kind == PlateDiscontinuity::Kind::crack && q.points.size() >= 2 &&
-         (strictly_inside(d, q.points.front()) || strictly_inside(d, q.points.back()));
+         (inside_past_touch(d, q.points.front()) || inside_past_touch(d, q.points.back()));
 }
 
 /// Interiors of two regions (circle or polygon) share a point.
@@ -274,6 +300,14 @@ BuildResult validate_discontinuities(const PlateDesc& d) {
       if (q.points.size() < 3)
         return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: needs at least 3 points, got %zu",
                                     k, q.points.size());
+      // A repeated vertex is not a crossing: name it (a polygon written closed
+      // repeats its first vertex at the end).
+      for (std::size_t i = 0, n = q.points.size(); i < n; ++i)
+        if (q.points[i] == q.points[(i + 1) % n])
+          return BuildResult::failure(Code::invalid_argument,
+                                      "discontinuities.%zu.polygon: vertex %zu repeats vertex %zu (a polygon closes "
+                                      "itself; give each vertex once)",
+                                      k, i + 1 == n ? i : i + 1, i + 1 == n ? std::size_t{0} : i);
       if (xfem::polyline_self_intersects(q.points, true))
         return BuildResult::failure(Code::invalid_argument, "discontinuities.%zu.polygon: crosses itself", k);
       double area = 0.0;
@@ -449,6 +483,32 @@ void put_cracks_on_near_node_lines(PlateDesc& d) {
   }
 }
 
+/// A crack end inside the domain within kTipTouch of a cell of its boundary
+/// is on the boundary (docs/xfem2d.md, "Tiny cuts (the rule)"): it takes
+/// the boundary's coordinate (both at a corner), so that the end is no tip
+/// and the crack is the one that ends on the boundary to the bit, wherever
+/// in that band it was written. Left alone, an end 1e-13 inside was a tip
+/// and the answer jumped (an edge crack's energy by ×2.3). An end whose
+/// neighbouring point is in the same band (a segment along the boundary) is
+/// left alone. The end moves by at most kTipTouch of a cell.
+void put_crack_ends_on_near_boundary(PlateDesc& d) {
+  const double tol = tip_touch(d);
+  for (PlateDiscontinuity& q : d.discontinuities) {
+    if (q.kind != PlateDiscontinuity::Kind::crack || q.shape != PlateDiscontinuity::Shape::polyline ||
+        q.points.size() < 2)
+      continue;
+    for (const bool at_end : {false, true}) {
+      Point2& end = at_end ? q.points.back() : q.points.front();
+      const Point2& next = at_end ? q.points[q.points.size() - 2] : q.points[1];
+      if (!(end[0] >= d.min[0] && end[0] <= d.max[0] && end[1] >= d.min[1] && end[1] <= d.max[1])) continue;
+      for (int c = 0; c < 2; ++c) {
+        if (end[c] - d.min[c] <= tol && next[c] - d.min[c] > tol) end[c] = d.min[c];
+        if (d.max[c] - end[c] <= tol && d.max[c] - next[c] > tol) end[c] = d.max[c];
+      }
+    }
+  }
+}
+
 /// Side of a cell that discontinuity k does not cut: − when some node is strictly negative.
 int uncut_side(const PlateModel& m, int k, const int en[4]) {
   for (int a = 0; a < 4; ++a)
@@ -456,11 +516,7 @@ int uncut_side(const PlateModel& m, int k, const int en[4]) {
   return 1;
 }
 
-/// The tiny-cut rule for tips: a tip within this fraction of a cell of a
-/// cell's closed box touches the cell (as the tip's cell's "just behind the
-/// tip" and the boundary refusal, 1e-6).
-constexpr double kTipTouch = 1e-6;
-
+/// (kTipTouch: the tiny-cut rule for tips, above.)
 bool tip_touches(const PlateModel& m, const PlateModel::Tip& t, const double lo[2], const double hi[2]) {
   const double tol = kTipTouch * std::min(m.cell_size[0], m.cell_size[1]);
   return t.origin[0] >= lo[0] - tol && t.origin[0] <= hi[0] + tol && t.origin[1] >= lo[1] - tol &&
@@ -1870,6 +1926,19 @@ BuildResult validate_plate(const PlateDesc& d) {
     return fail("tip_enrichment.radius: must be finite and >= 0 (m; 0: the nodes of the tip's cell only), got %g",
                 d.tip_radius);
   if (BuildResult r = validate_discontinuities(d); !r.ok()) return r;
+  // A point force or a prescribed node inside a void would act on nothing.
+  for (std::size_t l = 0; l < d.loads.size(); ++l)
+    if (const PlateLoad& ld = d.loads[l]; ld.kind == PlateLoad::Kind::point_force)
+      if (const int v = void_at(d, {ld.at[0], ld.at[1]}); v >= 0)
+        return BuildResult::failure(Code::invalid_argument,
+                                    "loads.%zu.at: (%g, %g) is inside void '%s': there is no material there", l,
+                                    ld.at[0], ld.at[1], d.discontinuities[static_cast<std::size_t>(v)].name.c_str());
+  for (std::size_t p = 0; p < d.prescribed.size(); ++p)
+    if (const int v = void_at(d, {d.prescribed[p].at[0], d.prescribed[p].at[1]}); v >= 0)
+      return BuildResult::failure(Code::invalid_argument,
+                                  "prescribed.%zu.at: (%g, %g) is inside void '%s': there is no material there", p,
+                                  d.prescribed[p].at[0], d.prescribed[p].at[1],
+                                  d.discontinuities[static_cast<std::size_t>(v)].name.c_str());
   if (BuildResult r = validate_energy_check(d.energy_check); !r.ok()) return r;
   return BuildResult::success();
 }
@@ -1882,6 +1951,7 @@ BuildResult build_plate(const PlateDesc& desc, PlateModel& model, PlateState& st
   workspace = PlateWorkspace{};
   if (BuildResult r = validate_plate(desc); !r.ok()) return r;
   model.desc = desc;
+  put_crack_ends_on_near_boundary(model.desc);
   put_cracks_on_near_node_lines(model.desc);
   const PlateDesc& d = model.desc;
   const int nx = d.cells[0], ny = d.cells[1];
@@ -3765,20 +3835,24 @@ int plate_point_region(const PlateDesc& d, double x, double y, double tolerance)
   double xi = 0.0, eta = 0.0;
   if (!locate_axis(d.min[0], d.max[0], d.cells[0], x, ci, xi) || !locate_axis(d.min[1], d.max[1], d.cells[1], y, cj, eta))
     return -1;
-  int region = 0;
   bool on_crack = false;
   for (const PlateDiscontinuity& q : d.discontinuities) {
     if (q.kind == PlateDiscontinuity::Kind::crack) {
       on_crack = on_crack || std::fabs(xfem::polyline_level_set(q.points, {x, y})) <= tolerance;
       continue;
     }
-    const double phi = level_set(q, q.points, {x, y});
-    if (std::fabs(phi) <= tolerance) return 1;
-    if (q.kind == PlateDiscontinuity::Kind::hole && phi < 0.0) region = 2;
+    if (std::fabs(level_set(q, q.points, {x, y})) <= tolerance) return 1;
   }
+  const int region = void_at(d, {x, y}) >= 0 ? 2 : 0;
   // A crack's line inside a void (a crack from a hole) has no material on
   // either side: a point there is in the void.
   return on_crack && region != 2 ? 1 : region;
+}
+
+int plate_void_at(const PlateDesc& d, double x, double y) { return void_at(d, {x, y}); }
+
+PlateCrackEnd plate_crack_end(const PlateDesc& d, int crack, bool at_end) {
+  return crack_end_kind(d, d.discontinuities[static_cast<std::size_t>(crack)], at_end);
 }
 
 PlateEnergy plate_energy(const PlateModel& m, const PlateState& s) {
