@@ -466,6 +466,12 @@ inline constexpr int kPlateMaxCellPieces = 36;
 /// The pieces of cell (i, j) (read-only geometry of the model; 0 for an
 /// unbuilt model, a cell out of range or a cell with no material).
 int plate_cell_pieces(const PlateModel& model, int i, int j, PlateCellPiece out[kPlateMaxCellPieces]);
+/// Whether the cut-cell geometry takes discontinuity k's exact level set at
+/// the centre of cell (i, j) instead of its nodes' mean (a void's or an
+/// inclusion's flat saddle, docs/xfem2d.md "Through nodes at a slant"), and
+/// then that value. For the 2D contact boundary, which traces the same
+/// sub-triangles. False for an unbuilt model or indices out of range.
+bool plate_flat_centre(const PlateModel& model, int k, int i, int j, double& value);
 /// Displacement, velocity and stress at parent point (ξ, η) of a piece of cell
 /// (i, j) (from plate_cell_pieces), by the enriched field of the piece's own
 /// side: on a crack, the two sides' pieces give the two faces' values.

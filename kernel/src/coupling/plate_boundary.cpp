@@ -354,6 +354,8 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
       double phi[5], mean = 0;
       for (int a = 0; a < 4; ++a) mean += (phi[a] = m.node_phi[base + static_cast<std::size_t>(nodes[a])]);
       phi[4] = centre_value(phi, mean);
+      // The plate's flat saddle takes the exact centre value: trace the same sub-triangles.
+      plate_flat_centre(m, cut, i, j, phi[4]);
       // The vertex of a key (its side set to key_side), made at (xi, eta) on
       // side `side` by the first segment through it.
       auto vertex = [&](EdgeKey key, int key_side, double xi, double eta, int side) {
@@ -384,6 +386,7 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         double vphi[5], vmean = 0;
         for (int a = 0; a < 4; ++a) vmean += (vphi[a] = m.node_phi[vbase + static_cast<std::size_t>(nodes[a])]);
         vphi[4] = centre_value(vphi, vmean);
+        plate_flat_centre(m, hv, i, j, vphi[4]);
         const PlateDiscontinuity& qv = m.desc.discontinuities[static_cast<std::size_t>(hv)];
         const bool second_void = qv.kind == PlateDiscontinuity::Kind::hole;
         for (int t = 0; t < 4; ++t) {
