@@ -379,3 +379,118 @@ TEST(PlateBoundary, ADiskAlongAVoidOnTheMeshLinesMeetsNoBumpAtTheJoints) {
   EXPECT_GT(largest_weight, 0.0);  // blended across the joint
   EXPECT_LT(worst_turn, 3 * step / gap);
 }
+
+namespace {
+
+/// The rectangle on the mesh lines with a crack from inside it (x = 1.07)
+/// down through its floor (a node row) and the bottom edge, 20 × 10 cells:
+/// the floor's cell edge in the crack's cell (10, 2) is split where the
+/// crack crosses it.
+PlateDesc void_with_crack(PlateDiscontinuity::Faces faces) {
+  PlateDesc p = plate_with(polygon_void({{0.8, 0.3}, {1.2, 0.3}, {1.2, 0.7}, {0.8, 0.7}}), 20, 10);
+  PlateDiscontinuity c;
+  c.name = "c";
+  c.kind = PlateDiscontinuity::Kind::crack;
+  c.shape = PlateDiscontinuity::Shape::polyline;
+  c.faces = faces;
+  if (faces != PlateDiscontinuity::Faces::free) c.stiffness[0] = c.stiffness[1] = 1e13;
+  c.points = {{1.07, 0.5}, {1.07, -0.1}};
+  p.discontinuities.push_back(c);
+  return p;
+}
+
+}  // namespace
+
+// A crack from the void down through its floor on a node row: the floor's
+// edge in the crack's cell is two segments, one on each side of the crack,
+// meeting the free faces at their own side's vertex where the crack crosses
+// the floor (two vertices at (1.07, 0.3)): one closed loop (the slot joins
+// the void to the outer edge), of the plate's area less the void's. With
+// tied faces there are no face segments and the two pieces end there (the
+// chain open, as at a mouth).
+TEST(PlateBoundary, ACrackFromAVoidOnTheMeshLinesSplitsTheFloorAtTheCrack) {
+  Traced t;
+  trace(void_with_crack(PlateDiscontinuity::Faces::free), t);
+  ASSERT_FALSE(HasFatalFailure());
+  const std::vector<double> areas = closed_loops(t.boundary);
+  ASSERT_EQ(areas.size(), 1u);
+  std::printf("crack from a void on the mesh lines: %zu segments, one loop of area %.15f m^2\n",
+              t.boundary.segments.size(), areas[0]);
+  EXPECT_NEAR(areas[0], 2.0 - 0.16, 1e-14);
+  int pieces = 0, ends = 0;
+  for (const PlateBoundarySegment& s : t.boundary.segments) {
+    if (s.cell[0] != 10 || s.cell[1] != 2) continue;
+    const double* a = t.boundary.vertices[static_cast<std::size_t>(s.a)].x;
+    const double* b = t.boundary.vertices[static_cast<std::size_t>(s.b)].x;
+    if (std::fabs(a[1] - 0.3) < 1e-12 && std::fabs(b[1] - 0.3) < 1e-12) {
+      ++pieces;
+      EXPECT_LT(b[0], a[0]);  // walked towards −x, the material below on the left
+      EXPECT_EQ(std::fabs(a[0] - 1.07) < 1e-12 ? 1 : std::fabs(b[0] - 1.07) < 1e-12 ? 1 : 0, 1);
+    }
+  }
+  for (const PlateBoundaryVertex& v : t.boundary.vertices)
+    if (std::fabs(v.x[0] - 1.07) < 1e-12 && std::fabs(v.x[1] - 0.3) < 1e-12) ++ends;
+  EXPECT_EQ(pieces, 2);
+  EXPECT_EQ(ends, 2);  // one vertex of each side
+  Traced tied;
+  trace(void_with_crack(PlateDiscontinuity::Faces::tied), tied);
+  ASSERT_FALSE(HasFatalFailure());
+  int open = 0;
+  for (const PlateBoundaryVertex& v : tied.boundary.vertices) open += (v.prev < 0) + (v.next < 0);
+  EXPECT_EQ(open, 4);  // the floor's two pieces and the bottom edge's two lips, open at the crack
+}
+
+// Two disks (0.5 kg, r = 0.02 m, k = 1e6 N/m) resting on that floor, one on
+// each side of the free crack, both over the crack's cell: each carries
+// m g, as on a floor off the mesh lines (coupled2d_crack_void_test.cpp).
+TEST(Coupled2d, DisksOnAVoidsFloorOnANodeRowEitherSideOfACrackCarryTheirWeight) {
+  Coupled2dDesc d;
+  d.plate = void_with_crack(PlateDiscontinuity::Faces::free);
+  d.plate.youngs_modulus = 2e11;
+  d.plate.gamma = 0.6, d.plate.beta = 0.3025;
+  d.dem.integrator = DemIntegrator::symplectic_euler;
+  d.dem.damping_ratio = 0.5;
+  d.dem.gravity = {0.0, -9.81};
+  const double m = 0.5, g = 9.81, r = 0.02, k = 1e6;
+  d.dem.particles.push_back(disk(m, r, k, 1.03, 0.3 + r + 0.002, 0.0, 0.0));
+  d.dem.particles.push_back(disk(m, r, k, 1.095, 0.3 + r + 0.002, 0.0, 0.0));
+  d.dem_substeps = 10;
+  Coupled2dWorld w;
+  const BuildResult built = w.build(d);
+  ASSERT_TRUE(built.ok()) << built.message;
+  for (int step = 0; step < 10000; ++step) ASSERT_EQ(w.step(), StepStatus::ok) << step;
+  for (int i = 0; i < 2; ++i) {
+    double f[2];
+    ASSERT_TRUE(coupled2d_boundary_force(w.model, w.state, i, f));
+    std::printf("disk %d beside the crack: at (%.6f, %.6f), F_y - m g = %.3g N of %.4g N, F_x = %.3g N\n", i,
+                w.state.dem.x[0][i], w.state.dem.x[1][i], f[1] - m * g, m * g, f[0]);
+    EXPECT_NEAR(w.state.dem.x[1][i], 0.3 + r - m * g / k, 1e-6);
+    EXPECT_NEAR(f[1], m * g, 1e-6 * m * g);
+    EXPECT_NEAR(f[0], 0.0, 1e-6 * m * g);
+  }
+}
+
+// An inclusion (a circle of radius 0.07 about (1, 0.2)) cutting the cells
+// under the floor on the node row, its boundary short of the floor: the
+// floor's edges in those cells are segments on the inclusion's + side, the
+// loop closed and of the void's area exactly (the inclusion's boundary is
+// no contact surface).
+TEST(PlateBoundary, AVoidsFloorOnANodeRowOverCellsAnInclusionCutsIsTraced) {
+  PlateDesc p = plate_with(polygon_void({{0.8, 0.3}, {1.2, 0.3}, {1.2, 0.7}, {0.8, 0.7}}), 20, 10);
+  PlateDiscontinuity inc = xfdem::testing::circle(PlateDiscontinuity::Kind::inclusion, 1.0, 0.2, 0.07);
+  inc.material = {5e9, 0.25, 3000};
+  p.discontinuities.push_back(inc);
+  Traced t;
+  trace(p, t);
+  ASSERT_FALSE(HasFatalFailure());
+  const std::vector<double> areas = closed_loops(t.boundary);
+  ASSERT_EQ(areas.size(), 2u);
+  EXPECT_NEAR(areas[0] + areas[1], 2.0 - 0.16, 1e-14);
+  int cut = 0;
+  for (const PlateBoundarySegment& s : t.boundary.segments)
+    if (t.model.cell_cut_by[static_cast<std::size_t>(s.cell[1] * 20 + s.cell[0])] == 1) {
+      ++cut;
+      EXPECT_EQ(s.side, 1);
+    }
+  EXPECT_EQ(cut, 2);  // the floor's edges over the cells (9, 2) and (10, 2)
+}

@@ -427,27 +427,69 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
         if (!is_hole(m, k) || phi_at(m, k, nodes[a]) != 0.0 || phi_at(m, k, nodes[b]) != 0.0) continue;
         if (!void_beside(ni, nj, k)) continue;
         const PlateDiscontinuity& q = m.desc.discontinuities[static_cast<std::size_t>(k)];
-        if (cut >= 0) {
-          // This cell's sub-triangle on the edge: material where the void
-          // cutting the cell has its level set ≥ 0 on all of it.
-          const bool void_cut = is_hole(m, cut) && second < 0;
-          const bool material = void_cut && phi_at(m, cut, nodes[a]) >= 0.0 && phi_at(m, cut, nodes[b]) >= 0.0 &&
-                                centre_phi(cut, i, j) >= 0.0;
-          if (!material && void_cut && cut == k) break;  // void on both sides: no boundary
-          if (!material)
-            return BuildResult::failure(Code::invalid_argument,
-                                        "continuum.discontinuities.%d: the boundary of '%s' runs along an edge of cell "
-                                        "(%d, %d), which '%s' cuts; this build traces a void's boundary along a cell "
-                                        "edge only beside cells that are uncut or cut by a void alone (move it off the "
-                                        "mesh line)",
-                                        k, q.name.c_str(), i, j, m.desc.discontinuities[static_cast<std::size_t>(cut)].name.c_str());
-        }
-        auto vertex = [&](int node, int corner) {
+        auto refuse = [&] {
+          return BuildResult::failure(Code::invalid_argument,
+                                      "continuum.discontinuities.%d: the boundary of '%s' runs along an edge of cell "
+                                      "(%d, %d), which '%s' cuts there in a way this build does not trace (move it off "
+                                      "the mesh line)",
+                                      k, q.name.c_str(), i, j,
+                                      m.desc.discontinuities[static_cast<std::size_t>(cut)].name.c_str());
+        };
+        auto vertex = [&](int node, int corner, int side) {
           const EdgeKey key = node_key(node, k);
           const auto found = crossings.find(key);
-          return found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, kXi[corner], kEta[corner], 1));
+          return found != crossings.end() ? found->second
+                                          : (crossings[key] = w.add_vertex(i, j, kXi[corner], kEta[corner], side));
         };
-        const int va = vertex(nodes[a], a), vb = vertex(nodes[b], b);
+        if (cut >= 0 && is_hole(m, cut)) {
+          // This cell's sub-triangle on the edge: material where the void
+          // cutting the cell has its level set ≥ 0 on all of it.
+          const bool material = second < 0 && phi_at(m, cut, nodes[a]) >= 0.0 && phi_at(m, cut, nodes[b]) >= 0.0 &&
+                                centre_phi(cut, i, j) >= 0.0;
+          if (!material && second < 0 && cut == k) break;  // void on both sides: no boundary
+          if (!material) return refuse();
+        } else if (cut >= 0) {
+          // A crack or an inclusion cuts this cell (and no second one, nor a
+          // tip: refused): the edge is split where its level set crosses it,
+          // each part on its side, as the outer walk splits an outer edge. A
+          // crack's crossing is a vertex of each side, keyed as the crack's
+          // faces key it there, so a free crack's face and the void's edge
+          // chain through it (a tied or unilateral crack's chain ends there,
+          // as at a mouth); an inclusion's, one vertex (its field is
+          // continuous).
+          if (second >= 0 || tip_of_cell(m, static_cast<int>(cell), cut) != nullptr) return refuse();
+          const double p0 = phi_at(m, cut, nodes[a]), p1 = phi_at(m, cut, nodes[b]);
+          const int s0 = xfem::side_of(p0), s1 = xfem::side_of(p1);
+          const bool crack = m.desc.discontinuities[static_cast<std::size_t>(cut)].kind == PlateDiscontinuity::Kind::crack;
+          if (s0 != s1 && (p0 == 0.0 || p1 == 0.0)) {
+            if (crack) return refuse();  // a crack through the edge's node
+            const int side = p0 == 0.0 ? s1 : s0;  // an inclusion through it: the edge on the other side
+            if (!w.link(vertex(nodes[a], a, side), vertex(nodes[b], b, side), i, j, kXi[a], kEta[a], kXi[b], kEta[b], side))
+              return meets_itself(k, q, i, j);
+            break;
+          }
+          if (s0 == s1) {
+            if (!w.link(vertex(nodes[a], a, s0), vertex(nodes[b], b, s0), i, j, kXi[a], kEta[a], kXi[b], kEta[b], s0))
+              return meets_itself(k, q, i, j);
+            break;
+          }
+          double xm = 0, em = 0;
+          crossing(p0, p1, kXi[a], kEta[a], kXi[b], kEta[b], nodes[a], nodes[b], xm, em);
+          const int lo = std::min(nodes[a], nodes[b]), hi = std::max(nodes[a], nodes[b]);
+          auto at_crossing = [&](int side) {
+            const EdgeKey key{0, lo, hi, cut, side};
+            const auto found = crossings.find(key);
+            return found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, xm, em, side));
+          };
+          const int va = vertex(nodes[a], a, s0);
+          const int m0 = crack ? at_crossing(s0) : w.add_vertex(i, j, xm, em, s0);
+          const int m1 = crack ? at_crossing(s1) : m0;
+          const int vb = vertex(nodes[b], b, s1);
+          if (!w.link(va, m0, i, j, kXi[a], kEta[a], xm, em, s0) || !w.link(m1, vb, i, j, xm, em, kXi[b], kEta[b], s1))
+            return meets_itself(k, q, i, j);
+          break;
+        }
+        const int va = vertex(nodes[a], a, 1), vb = vertex(nodes[b], b, 1);
         if (!w.link(va, vb, i, j, kXi[a], kEta[a], kXi[b], kEta[b], 1)) return meets_itself(k, q, i, j);
         break;
       }
