@@ -39,7 +39,24 @@ void crossing(double p0, double p1, double xi0, double eta0, double xi1, double 
 /// side whose material the vertex belongs to: the vertex every segment
 /// through it shares. In a cell cut by a crack and a void, where the crack
 /// meets the void's boundary inside sub-triangle t: (2, cell, t, crack, side).
+///
+/// A void's boundary through a node (its level set 0 there, as the plate's
+/// tiny-cut rule makes every node within 1e-9 of a cell of it) is keyed by
+/// the node: (3, node, −1, disc, side). Every crossing there (on either cell
+/// edge through the node, on the inner edge from it to a cell's centre, or
+/// the end of a cell edge the boundary runs along) is that one vertex, so the
+/// boundary goes on from cell to cell through the node as one chain.
 using EdgeKey = std::tuple<int, int, int, int, int>;  // (0, node, node, disc, side), (1, cell, corner, disc, side)
+
+bool is_hole(const PlateModel& m, int disc) {
+  return m.desc.discontinuities[static_cast<std::size_t>(disc)].kind == PlateDiscontinuity::Kind::hole;
+}
+
+EdgeKey node_key(int node, int disc) { return EdgeKey{3, node, -1, disc, 1}; }
+
+double phi_at(const PlateModel& m, int disc, int node) {
+  return m.node_phi[static_cast<std::size_t>(disc) * static_cast<std::size_t>(m.nodes) + static_cast<std::size_t>(node)];
+}
 
 /// The tip of crack `cut` that cell `cell` holds, or nullptr.
 const PlateModel::Tip* tip_of_cell(const PlateModel& m, int cell, int cut) {
@@ -82,8 +99,25 @@ struct Walker {
     return static_cast<int>(out.vertices.size()) - 1;
   }
 
+  /// Where the outer chain breaks or starts again at a node on a void's
+  /// boundary (the void reaches the domain's edge there), the chain's end is
+  /// the node's vertex: the void's boundary (a cut cell's chord, or a cell
+  /// edge it runs along) goes on from it.
+  void register_node(int v) {
+    if (m.cell_cut_by.empty()) return;
+    const PlateMaterialPoint& at = out.vertices[static_cast<std::size_t>(v)].at;
+    if (std::fabs(at.xi) != 1.0 || std::fabs(at.eta) != 1.0) return;
+    const int node = (at.cell[1] + (at.eta > 0 ? 1 : 0)) * (m.desc.cells[0] + 1) + at.cell[0] + (at.xi > 0 ? 1 : 0);
+    for (int k = 0; k < static_cast<int>(m.desc.discontinuities.size()); ++k)
+      if (is_hole(m, k) && phi_at(m, k, node) == 0.0) crossings.emplace(node_key(node, k), v);
+  }
+
   void add_segment(int i, int j, double xi0, double eta0, double xi1, double eta1, int side) {
-    const int a = last >= 0 ? last : add_vertex(i, j, xi0, eta0, side);
+    int a = last;
+    if (a < 0) {
+      a = add_vertex(i, j, xi0, eta0, side);
+      register_node(a);
+    }
     const int b = add_vertex(i, j, xi1, eta1, side);
     PlateBoundarySegment s;
     s.a = a, s.b = b, s.cell[0] = i, s.cell[1] = j;
@@ -97,6 +131,7 @@ struct Walker {
   }
 
   void brk() {
+    if (last >= 0) register_node(last);
     last = -1;
     broke = true;
   }
@@ -169,6 +204,10 @@ struct Walker {
       if (!has_material(s0)) return brk();
       return part(xi0, eta0, xi1, eta1, s0);
     }
+    // A void's boundary through an end of the edge (the level set 0 there):
+    // the edge's material ends or starts at that node, whose vertex the void's
+    // boundary shares (register_node); no segment of no length.
+    if (kind == PlateDiscontinuity::Kind::hole && (p0 == 0.0 || p1 == 0.0)) return brk();
     double xim = 0, etam = 0;
     crossing(p0, p1, xi0, eta0, xi1, eta1, node(from), node(to), xim, etam);
     // In a tip's cell the level set crosses the edge also where the crack's
@@ -216,6 +255,7 @@ double centre_value(const double phi[5], double sum) {
 bool chord(const PlateModel& m, int cell, const int nodes[4], const double phi[5], int t, int disc, Chord& c) {
   const int corner[3] = {t, (t + 1) % 4, 4};
   const double pxi[3] = {kXi[t], kXi[(t + 1) % 4], 0.0}, peta[3] = {kEta[t], kEta[(t + 1) % 4], 0.0};
+  const bool hole = is_hole(m, disc);
   int points = 0;
   for (int e = 0; e < 3; ++e) {
     const int a = e, b = (e + 1) % 3;
@@ -224,7 +264,12 @@ bool chord(const PlateModel& m, int cell, const int nodes[4], const double phi[5
     // Order the ends as the key does, so both cells (or triangles) agree.
     const bool outer = corner[a] < 4 && corner[b] < 4;
     const int ka = corner[a] < 4 ? nodes[corner[a]] : -1, kb = corner[b] < 4 ? nodes[corner[b]] : -1;
-    if (outer) {
+    if (hole && ((fa == 0.0 && corner[a] < 4) || (fb == 0.0 && corner[b] < 4))) {
+      // Through a corner of the cell (its level set 0): the node's vertex.
+      const int z = fa == 0.0 ? a : b;
+      c.xi[points] = pxi[z], c.eta[points] = peta[z];
+      c.key[points] = node_key(nodes[corner[z]], disc);
+    } else if (outer) {
       crossing(fa, fb, pxi[a], peta[a], pxi[b], peta[b], ka, kb, c.xi[points], c.eta[points]);
       c.key[points] = EdgeKey{0, std::min(ka, kb), std::max(ka, kb), disc, 0};
     } else {
@@ -239,6 +284,10 @@ bool chord(const PlateModel& m, int cell, const int nodes[4], const double phi[5
     ++points;
   }
   if (points != 2) return false;
+  // A void's boundary along the triangle's cell edge (both its corners on it,
+  // the triangle void): traced from the cell with material across that edge
+  // (plate_boundary_build), not here.
+  if (hole && std::get<0>(c.key[0]) == 3 && std::get<0>(c.key[1]) == 3 && c.key[0] != c.key[1]) return false;
   // φ's gradient on the triangle (parent coordinates, then physical).
   const double x0 = pxi[0] - pxi[2], y0 = peta[0] - peta[2], x1 = pxi[1] - pxi[2], y1 = peta[1] - peta[2];
   const double r0 = phi[corner[0]] - phi[4], r1 = phi[corner[1]] - phi[4];
@@ -334,9 +383,133 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
   // line is two, one per face, each with its side's material on its left.
   // Crossings are shared by edge and side, so the segments chain into loops,
   // or into the outer chain where they reach the domain's edge.
+  //
+  // A void's boundary along a cell edge (both its nodes on it, φ = 0, so that
+  // no cell is cut there: the cells on one side are inside the void, those on
+  // the other have material up to the edge): the edge is a segment where the
+  // part of the cell on one side that touches it has material and the part
+  // on the other has none (a cell inside the void, or the void's sub-triangle
+  // of a cell it cuts). It is traced from the cell with material, in the cell
+  // order, as that cell's edge walked with the cell on its left, between the
+  // vertices of its two nodes, which the cut cells' chords ending there share.
+  const auto nd = m.desc.discontinuities.size();
+  auto centre_phi = [&](int disc, int ci, int cj) {
+    double phi[5], mean = 0;
+    for (int a = 0; a < 4; ++a) {
+      const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
+      mean += (phi[a] = phi_at(m, disc, (cj + dj) * (nx + 1) + ci + di));
+    }
+    return centre_value(phi, mean);
+  };
+  // Whether cell (ci, cj) has no material beside its edge whose nodes are on
+  // void k's boundary: inside the void, or cut by it with the sub-triangle
+  // on that edge void (its centre's level set negative).
+  auto void_beside = [&](int ci, int cj, int k) {
+    const auto c = static_cast<std::size_t>(cj * nx + ci);
+    if (m.cell_material[c] < 0) {
+      for (int a = 0; a < 4; ++a) {
+        const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
+        if (phi_at(m, k, (cj + dj) * (nx + 1) + ci + di) < 0.0) return true;
+      }
+      return false;
+    }
+    const bool cut_by_k = m.cell_cut_by[c] == k || m.cell_second_cut[c] == k;
+    return cut_by_k && centre_phi(k, ci, cj) < 0.0;
+  };
+  auto void_edges = [&](int i, int j, const int nodes[4]) {
+    const auto cell = static_cast<std::size_t>(j * nx + i);
+    const int cut = m.cell_cut_by[cell], second = m.cell_second_cut[cell];
+    for (int a = 0; a < 4; ++a) {
+      const int b = (a + 1) % 4;
+      const int ni = i + (a == 1 ? 1 : a == 3 ? -1 : 0), nj = j + (a == 0 ? -1 : a == 2 ? 1 : 0);
+      if (ni < 0 || nj < 0 || ni >= nx || nj >= ny) continue;  // the domain's edge: the outer walk's
+      for (int k = 0; k < static_cast<int>(nd); ++k) {
+        if (!is_hole(m, k) || phi_at(m, k, nodes[a]) != 0.0 || phi_at(m, k, nodes[b]) != 0.0) continue;
+        if (!void_beside(ni, nj, k)) continue;
+        const PlateDiscontinuity& q = m.desc.discontinuities[static_cast<std::size_t>(k)];
+        auto refuse = [&] {
+          return BuildResult::failure(Code::invalid_argument,
+                                      "continuum.discontinuities.%d: the boundary of '%s' runs along an edge of cell "
+                                      "(%d, %d), which '%s' cuts there in a way this build does not trace (move it off "
+                                      "the mesh line)",
+                                      k, q.name.c_str(), i, j,
+                                      m.desc.discontinuities[static_cast<std::size_t>(cut)].name.c_str());
+        };
+        auto vertex = [&](int node, int corner, int side) {
+          const EdgeKey key = node_key(node, k);
+          const auto found = crossings.find(key);
+          return found != crossings.end() ? found->second
+                                          : (crossings[key] = w.add_vertex(i, j, kXi[corner], kEta[corner], side));
+        };
+        if (cut >= 0 && is_hole(m, cut)) {
+          // This cell's sub-triangle on the edge: material where the void
+          // cutting the cell has its level set ≥ 0 on all of it.
+          const bool material = second < 0 && phi_at(m, cut, nodes[a]) >= 0.0 && phi_at(m, cut, nodes[b]) >= 0.0 &&
+                                centre_phi(cut, i, j) >= 0.0;
+          if (!material && second < 0 && cut == k) break;  // void on both sides: no boundary
+          if (!material) return refuse();
+        } else if (cut >= 0) {
+          // A crack or an inclusion cuts this cell (and no second one, nor a
+          // tip: refused): the edge is split where its level set crosses it,
+          // each part on its side, as the outer walk splits an outer edge. A
+          // crack's crossing is a vertex of each side, keyed as the crack's
+          // faces key it there, so a free crack's face and the void's edge
+          // chain through it (a tied or unilateral crack's chain ends there,
+          // as at a mouth); an inclusion's, one vertex (its field is
+          // continuous).
+          if (second >= 0 || tip_of_cell(m, static_cast<int>(cell), cut) != nullptr) return refuse();
+          const double p0 = phi_at(m, cut, nodes[a]), p1 = phi_at(m, cut, nodes[b]);
+          const int s0 = xfem::side_of(p0), s1 = xfem::side_of(p1);
+          const bool crack = m.desc.discontinuities[static_cast<std::size_t>(cut)].kind == PlateDiscontinuity::Kind::crack;
+          if (s0 != s1 && (p0 == 0.0 || p1 == 0.0)) {
+            if (crack) return refuse();  // a crack through the edge's node
+            const int side = p0 == 0.0 ? s1 : s0;  // an inclusion through it: the edge on the other side
+            if (!w.link(vertex(nodes[a], a, side), vertex(nodes[b], b, side), i, j, kXi[a], kEta[a], kXi[b], kEta[b], side))
+              return meets_itself(k, q, i, j);
+            break;
+          }
+          if (s0 == s1) {
+            if (!w.link(vertex(nodes[a], a, s0), vertex(nodes[b], b, s0), i, j, kXi[a], kEta[a], kXi[b], kEta[b], s0))
+              return meets_itself(k, q, i, j);
+            break;
+          }
+          double xm = 0, em = 0;
+          crossing(p0, p1, kXi[a], kEta[a], kXi[b], kEta[b], nodes[a], nodes[b], xm, em);
+          const int lo = std::min(nodes[a], nodes[b]), hi = std::max(nodes[a], nodes[b]);
+          auto at_crossing = [&](int side) {
+            const EdgeKey key{0, lo, hi, cut, side};
+            const auto found = crossings.find(key);
+            return found != crossings.end() ? found->second : (crossings[key] = w.add_vertex(i, j, xm, em, side));
+          };
+          const int va = vertex(nodes[a], a, s0);
+          const int m0 = crack ? at_crossing(s0) : w.add_vertex(i, j, xm, em, s0);
+          const int m1 = crack ? at_crossing(s1) : m0;
+          const int vb = vertex(nodes[b], b, s1);
+          if (!w.link(va, m0, i, j, kXi[a], kEta[a], xm, em, s0) || !w.link(m1, vb, i, j, xm, em, kXi[b], kEta[b], s1))
+            return meets_itself(k, q, i, j);
+          break;
+        }
+        const int va = vertex(nodes[a], a, 1), vb = vertex(nodes[b], b, 1);
+        if (!w.link(va, vb, i, j, kXi[a], kEta[a], kXi[b], kEta[b], 1)) return meets_itself(k, q, i, j);
+        break;
+      }
+    }
+    return BuildResult::success();
+  };
+  bool any_hole = false;
+  for (int k = 0; k < static_cast<int>(nd); ++k) any_hole = any_hole || is_hole(m, k);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const int cell = j * nx + i;
+      if (any_hole && m.cell_material[static_cast<std::size_t>(cell)] >= 0) {
+        int corners[4];
+        for (int a = 0; a < 4; ++a) {
+          const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
+          corners[a] = (j + dj) * (nx + 1) + (i + di);
+        }
+        const BuildResult r = void_edges(i, j, corners);
+        if (!r.ok()) return r;
+      }
       const int cut = m.cell_cut_by.empty() ? -1 : m.cell_cut_by[static_cast<std::size_t>(cell)];
       if (cut < 0 || m.cell_material[static_cast<std::size_t>(cell)] < 0) continue;  // uncut, or all void
       const PlateDiscontinuity& q = m.desc.discontinuities[static_cast<std::size_t>(cut)];
