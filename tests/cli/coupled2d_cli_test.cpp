@@ -391,16 +391,18 @@ INSTANTIATE_TEST_SUITE_P(
         Coupled2dBadInput{"--set dem.particles.1.position=[0.5,15]",
                           "scene key 'dem.particles.1.position': particle 'p2' its centre (0.5, 15) is inside the "
                           "plate's material"},
-        // ω = √(k (1/m_node + 1/m)) = √(1e7 (1/200 + 1/50)) = 500 rad/s (the top corner nodes carry a quarter
+        // ω = √(k (1/m_eff + 1/m)) = √(1e7 (1/200 + 1/50)) = 500 rad/s (the corner nodes carry a quarter
         // of a 1 m × 1 m × 0.4 m cell of 2000 kg/m³; p2 is 50 kg): ω·h = 2 past symplectic Euler's 1.81 at
         // ζ = 0.1, while the particles' own stiffest contact (447 rad/s) is still stable at that substep.
         Coupled2dBadInput{"--set time.dt=0.004 --set time.dem_substeps=1 --set output.every=0.02",
                           "scene key 'time.dem_substeps': the disk substep 0.004 s (dt / dem_substeps) exceeds the "
-                          "stable step 0.00362047 s of symplectic_euler for a disk on the plate's lightest node "
-                          "(omega = sqrt(k (1/m_node + 1/m)) = 500 rad/s); raise dem_substeps or reduce time.dt"},
+                          "stable step 0.00362047 s of symplectic_euler for a disk on the plate's softest boundary "
+                          "point (1, 0) in cell (0, 0) (effective mass m_eff = 200 kg; normal: omega = sqrt(k (1/m_eff "
+                          "+ 1/m)) = 500 rad/s); raise dem_substeps or reduce time.dt"},
         Coupled2dBadInput{"--set time.dt=0.01",
                           "scene key 'time.dt': 0.01 s is too long for the disk-plate exchange to settle: omega*dt = "
-                          "5 > 1 (omega = sqrt(k (1/m_node + 1/m)) = 500 rad/s); reduce time.dt"},
+                          "5 > 1 at the plate's softest boundary point (1, 0) in cell (0, 0) (effective mass m_eff = "
+                          "200 kg; normal: omega = sqrt(k (1/m_eff + 1/m)) = 500 rad/s); reduce time.dt"},
         Coupled2dBadInput{"--set continuum.analysis=static",
                           "scene key 'continuum.analysis': particles against the plate need \"dynamic\" (got "
                           "\"static\")"},

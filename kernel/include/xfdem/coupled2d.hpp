@@ -82,9 +82,11 @@ struct Coupled2dDesc {
   /// whose boundary moves further says coupling_unstable.
   double boundary_allowance = 0;
   /// Refuse to build when the stiffest disk–boundary contact, a two-mass
-  /// oscillator ω_c² = k (1/m_node + 1/m_disk) with m_node the lightest
-  /// node's lumped mass, has ω_c·dt above kCoupledMaxOmegaDt or ω_c·dt/n
-  /// above the disks' integrator's stable step.
+  /// oscillator ω_c² = k (1/m_eff + 1/m_disk) with 1/m_eff the largest over
+  /// the boundary's vertices of Σ_a N_a² / m_a (the standard functions there,
+  /// m_a their lumped masses: at a node of an uncut edge, 1/m_node), has
+  /// ω_c·dt above kCoupledMaxOmegaDt or ω_c·dt/n above the disks'
+  /// integrator's stable step.
   bool reject_unstable_coupling = true;
   /// The energy balance check of coupled2d_step() on the disks and the plate
   /// together (Coupled2dState::energy), replacing the halves' own.
@@ -99,6 +101,8 @@ struct Coupled2dModel {
   int substeps = 1;
   double dt = 0;
   double coupling_omega = 0;  ///< ω_c of the stiffest disk–boundary contact, rad/s
+  /// 1/m_eff: the largest Σ_a N_a² / m_a over the boundary's vertices, 1/kg.
+  double coupling_inv_mass = 0;
   /// Friction, rolling resistance or hertz: the disks rotate, contacts keep springs.
   bool rotating = false;
   /// hertz: the plate's (1 − ν²)/E and 2(2 − ν)(1 + ν)/E, the contacts' second body.
@@ -154,6 +158,11 @@ inline constexpr double kCoupled2dRestartGrowth = 100.0;
 inline constexpr int kCoupled2dStallPasses = 6;
 inline constexpr int kCoupled2dMaxPasses = 100;
 inline constexpr double kCoupled2dJumpTolerance = 1e-3;
+/// A node whose function reaches the disks' boundary with a lumped mass below
+/// this fraction of a cell's (ρ t h_x h_y) is refused at build (with
+/// reject_unstable_coupling): a sliver that thin breaks the coupled step at
+/// any substep (docs/coupled2d.md, "The coupled step").
+inline constexpr double kCoupled2dSliverMass = 1e-14;
 
 /// The tangential springs of the disk–boundary contacts: kPlateBoundaryMaxContacts
 /// slots per disk (slot i·K + k), as many as a disk can have contacts, so

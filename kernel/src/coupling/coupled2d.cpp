@@ -663,45 +663,109 @@ BuildResult build_coupled2d(const Coupled2dDesc& desc, Coupled2dModel& m, Couple
     }
   }
 
+  const double allowance = desc.boundary_allowance > 0
+                               ? desc.boundary_allowance
+                               : 0.5 * std::min(m.plate.cell_size[0], m.plate.cell_size[1]);
+  double max_radius = 0;
+  for (const double radius : m.dem.radius) max_radius = std::max(max_radius, radius);
+  r = plate_boundary_build(m.plate, max_radius > 0 ? max_radius : 1e-3 * allowance, allowance, m.boundary);
+  if (!r.ok()) return r;
+  // The lightest mass a contact sees: at a boundary point x the plate's
+  // lumped compliance Σ_a N_a(x)² / m_a over the standard functions there
+  // (m_a = ρ t ∫ N_a dA over the material, held components included). A
+  // contact's force acts at a vertex or, on a plain cell's edge, at a point
+  // of it, shared by points with weights summing to 1: by convexity its
+  // compliance is at most the largest over the vertices. At a node of an
+  // uncut edge it is that node's 1/m_node; a sliver that a void cuts off a
+  // cell has a nearly massless node, but its function is as small on the
+  // boundary (N² / m stays of the order 1/(ρ t h²)), so it does not set the
+  // step (docs/coupled2d.md, "The coupled step").
+  double softest = 0;  // 1/m_eff, 1/kg
+  PlateMaterialPoint softest_at;
+  double softest_x[2] = {0, 0};
+  // The lightest node whose function reaches the boundary (a sliver's).
+  const double cell_mass = plate.density * plate.thickness * m.plate.cell_size[0] * m.plate.cell_size[1];
+  double sliver_mass = INFINITY;
+  int sliver_node[2] = {0, 0};
+  const PlateBoundaryVertex* sliver_vertex = nullptr;
+  for (const PlateBoundaryVertex& v : m.boundary.vertices) {
+    PlatePointBasis basis;
+    if (!plate_point_basis(m.plate, v.at.cell[0], v.at.cell[1], v.at.xi, v.at.eta, v.at.side, basis, 0.0)) continue;
+    double sum = 0;
+    for (int q = 0; q < basis.count && q < 4; ++q) {  // the standard functions, counter-clockwise from (i, j)
+      const int i = v.at.cell[0] + (q == 1 || q == 2 ? 1 : 0), j = v.at.cell[1] + (q >= 2 ? 1 : 0);
+      const double mass = m.plate.node_mass[static_cast<std::size_t>(j * (m.plate.desc.cells[0] + 1) + i)];
+      if (mass > 0) sum += basis.n[q] * basis.n[q] / mass;
+      if (mass > 0 && basis.n[q] != 0.0 && mass < sliver_mass)
+        sliver_mass = mass, sliver_node[0] = i, sliver_node[1] = j, sliver_vertex = &v;
+    }
+    if (sum > softest) softest = sum, softest_at = v.at, softest_x[0] = v.x[0], softest_x[1] = v.x[1];
+  }
+  m.coupling_inv_mass = softest;
+  // A sliver below kCoupled2dSliverMass of a cell's mass: its stiff, nearly
+  // massless mode is excited by the start acceleration the plate re-solves
+  // from M at every coupled step, and a disk touching it breaks the step at
+  // any substep (docs/coupled2d.md, "The coupled step").
+  const bool sliver = sliver_vertex != nullptr && sliver_mass < kCoupled2dSliverMass * cell_mass;
+  if (desc.reject_unstable_coupling && sliver) {
+    const PlateMaterialPoint& at = sliver_vertex->at;
+    const std::size_t cell = static_cast<std::size_t>(at.cell[1] * m.plate.desc.cells[0] + at.cell[0]);
+    const int cut = m.plate.cell_cut_by.empty() ? -1 : m.plate.cell_cut_by[cell];
+    const double node_x = plate.min[0] + sliver_node[0] * m.plate.cell_size[0];
+    const double node_y = plate.min[1] + sliver_node[1] * m.plate.cell_size[1];
+    return BuildResult::failure(
+        Code::unstable_time_step,
+        "continuum.discontinuities.%d: '%s' cuts a sliver off cell (%d, %d) at its boundary point (%g, %g): the "
+        "node (%g, %g) keeps %g kg, %.3g of a cell's mass (below %g), and a disk touching the sliver breaks the "
+        "coupled step at any substep; move the boundary onto the node's row or column, or further from it",
+        cut, cut >= 0 ? plate.discontinuities[static_cast<std::size_t>(cut)].name.c_str() : "the plate", at.cell[0],
+        at.cell[1], sliver_vertex->x[0], sliver_vertex->x[1], node_x, node_y, sliver_mass, sliver_mass / cell_mass,
+        kCoupled2dSliverMass);
+  }
+
   // The stiffest contact: normal k (hertz: S_n at the DEM's reference overlap
   // kHertzReferenceOverlap · R), and with friction the tangential one, whose
   // disk side also turns (1/m + r²/I).
-  double max_radius = 0, worst = 0, lightest = INFINITY;
-  for (const double mass : m.plate.node_mass)
-    if (mass > 0) lightest = std::min(lightest, mass);
+  double worst = 0;
+  bool tangential = false;
   for (std::int32_t i = 0; i < m.dem.n; ++i) {
     const auto iu = static_cast<std::size_t>(i);
     const double radius = m.dem.radius[iu];
-    max_radius = std::max(max_radius, radius);
     double kn = m.dem.stiffness[iu], kt = m.dem.tangential_ratio * kn;
     if (hertz) {
       const double root = radius * std::sqrt(kHertzReferenceOverlap);
       kn = 2.0 * root / (m.dem.hertz_inv_e[iu] + stiffest_inv_e);
       kt = 8.0 * root / (m.dem.hertz_inv_g[iu] + stiffest_inv_g);
     }
-    worst = std::max(worst, kn * (1.0 / lightest + m.dem.inv_mass[iu]));
-    if (desc.dem.friction > 0)
-      worst = std::max(worst, kt * (1.0 / lightest + m.dem.inv_mass[iu] + radius * radius * m.dem.inv_inertia[iu]));
+    const double normal = kn * (softest + m.dem.inv_mass[iu]);
+    if (normal > worst) worst = normal, tangential = false;
+    if (desc.dem.friction > 0) {
+      const double turning = kt * (softest + m.dem.inv_mass[iu] + radius * radius * m.dem.inv_inertia[iu]);
+      if (turning > worst) worst = turning, tangential = true;
+    }
   }
   m.coupling_omega = std::sqrt(worst);
   const double factor = m.dem.stable_factor;  // the integrator's, at the law's damping
-  m.beyond_stable_step = m.coupling_omega * dem.dt > factor || m.coupling_omega * m.dt > kCoupledMaxOmegaDt;
+  m.beyond_stable_step =
+      sliver || m.coupling_omega * dem.dt > factor || m.coupling_omega * m.dt > kCoupledMaxOmegaDt;
+  const char* mode = tangential ? "tangential (friction): omega = sqrt(k_t (1/m_eff + 1/m + r^2/I))"
+                                : "normal: omega = sqrt(k (1/m_eff + 1/m))";
   if (desc.reject_unstable_coupling && m.coupling_omega * dem.dt > factor)
     return BuildResult::failure(Code::unstable_time_step,
                                 "dem_substeps: the disk substep %g s (dt / dem_substeps) exceeds the stable step %g s "
-                                "of %s for a disk on the plate's lightest node (omega = sqrt(k (1/m_node + 1/m)) = %g "
-                                "rad/s); raise dem_substeps or reduce time.dt",
-                                dem.dt, factor / m.coupling_omega, integrator_name(dem.integrator), m.coupling_omega);
+                                "of %s for a disk on the plate's softest boundary point (%g, %g) in cell (%d, %d) "
+                                "(effective mass m_eff = %g kg; %s = %g rad/s); raise dem_substeps or reduce time.dt",
+                                dem.dt, factor / m.coupling_omega, integrator_name(dem.integrator), softest_x[0],
+                                softest_x[1], softest_at.cell[0], softest_at.cell[1], softest > 0 ? 1.0 / softest : 0.0,
+                                mode, m.coupling_omega);
   if (desc.reject_unstable_coupling && m.coupling_omega * m.dt > kCoupledMaxOmegaDt)
     return BuildResult::failure(Code::unstable_time_step,
                                 "time.dt: %g s is too long for the disk-plate exchange to settle: omega*dt = %.3g > "
-                                "%.3g (omega = sqrt(k (1/m_node + 1/m)) = %g rad/s); reduce time.dt",
-                                m.dt, m.coupling_omega * m.dt, kCoupledMaxOmegaDt, m.coupling_omega);
-  const double allowance = desc.boundary_allowance > 0
-                               ? desc.boundary_allowance
-                               : 0.5 * std::min(m.plate.cell_size[0], m.plate.cell_size[1]);
-  r = plate_boundary_build(m.plate, max_radius > 0 ? max_radius : 1e-3 * allowance, allowance, m.boundary);
-  if (!r.ok()) return r;
+                                "%.3g at the plate's softest boundary point (%g, %g) in cell (%d, %d) (effective mass "
+                                "m_eff = %g kg; %s = %g rad/s); reduce time.dt",
+                                m.dt, m.coupling_omega * m.dt, kCoupledMaxOmegaDt, softest_x[0], softest_x[1],
+                                softest_at.cell[0], softest_at.cell[1], softest > 0 ? 1.0 / softest : 0.0, mode,
+                                m.coupling_omega);
   if (hertz && !plate.discontinuities.empty()) {
     // Each segment's material: that of its cell on its side (an inclusion's
     // on the inclusion's negative side, as the plate integrates it; in a
