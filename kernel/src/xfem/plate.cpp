@@ -1220,6 +1220,69 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
     // Every piece of a cell with branch functions is integrated polar about
     // the tip (polar_piece).
     const Point2 apex = polar_apex(m, v);
+    // The branch functions jump (θ = ±π) along the tip's straight line behind
+    // it, which leaves the crack where the crack bends: beyond the bend it
+    // runs through material, and a piece it crosses holds a jump that neither
+    // rule integrates (Gauss across it; the mass is then no Gram matrix and may
+    // be indefinite). Such a piece is split along that line, each part on one
+    // side of it (ray[]: the sign of the tip's local y on it, 0 in cells
+    // without a split) ("A bend near a tip", docs/xfem2d.md).
+    xfem::TrianglePiece split[3 * kMaxPieces];
+    int split_tri[3 * kMaxPieces];
+    int ray[3 * kMaxPieces] = {};
+    int parts = 0;
+    bool any_split = false;
+    {
+      const double h = std::min(m.cell_size[0], m.cell_size[1]);
+      const double tol = 1e-9 * h;
+      int tip_here = -1;
+      for (int g = 0; g < v.count && tip_here < 0; ++g)
+        if (v.tip[g] >= 0) tip_here = v.tip[g];
+      const PlateModel::Tip* t = tip_here >= 0 ? &m.tips[static_cast<std::size_t>(tip_here)] : nullptr;
+      auto local = [&](Point2 q, double& lx, double& ly) {
+        const Point2 x = physical(v, q[0], q[1]);
+        const double ox = x[0] - t->origin[0], oy = x[1] - t->origin[1];
+        lx = t->cos_a * ox + t->sin_a * oy, ly = -t->sin_a * ox + t->cos_a * oy;
+      };
+      for (int p = 0; p < count; ++p) {
+        double lx[3] = {}, ly[3] = {};
+        bool cross_behind = false;
+        if (t != nullptr) {
+          for (int c = 0; c < 3; ++c) local(pieces[p].v[c], lx[c], ly[c]);
+          for (int c = 0; c < 3; ++c) {
+            const int e = (c + 1) % 3;
+            if ((ly[c] > tol && ly[e] < -tol) || (ly[c] < -tol && ly[e] > tol)) {
+              const double a = ly[c] / (ly[c] - ly[e]);
+              if (lx[c] + a * (lx[e] - lx[c]) < -tol) cross_behind = true;
+            }
+          }
+        }
+        if (!cross_behind) {
+          split[parts] = pieces[p], split_tri[parts] = triangle[p];
+          ++parts;
+          continue;
+        }
+        any_split = true;
+        xfem::TrianglePiece out[3];
+        const int n = xfem::split_triangle(pieces[p].v, ly, out);
+        for (int q = 0; q < n; ++q) {
+          split[parts] = out[q];
+          split[parts].side = pieces[p].side;
+          split_tri[parts] = triangle[p];
+          ray[parts] = out[q].side;  // split_triangle's side: the sign of ly there
+          ++parts;
+        }
+      }
+      if (any_split)
+        for (int p = 0; p < parts; ++p) {
+          if (ray[p] != 0) continue;
+          const Point2 c{(split[p].v[0][0] + split[p].v[1][0] + split[p].v[2][0]) / 3.0,
+                         (split[p].v[0][1] + split[p].v[1][1] + split[p].v[2][1]) / 3.0};
+          double lx = 0.0, ly = 0.0;
+          local(c, lx, ly);
+          ray[p] = lx < 0.0 ? (ly >= 0.0 ? 1 : -1) : 0;
+        }
+    }
     // An edge two pieces share with opposite senses, where the integrand is
     // the same function on both (the same side, and the same sub-triangle
     // where an inclusion's ridge is), cancels in the signed sums: left out
@@ -1234,22 +1297,22 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
     // 1/kPolarCancellation of their sizes (a sliver, or a small piece far from
     // the tip) is integrated by the collapsed Gauss rule on its own area
     // instead ("Tiny cuts at a tip", docs/xfem2d.md).
-    bool own_rule[kMaxPieces] = {};
-    for (int p = 0; p < count; ++p) own_rule[p] = polar_cancels(pieces[p], apex);
-    unsigned skip[kMaxPieces] = {};
-    for (int p = 0; p < count; ++p) {
-      const int sp = sense(pieces[p]);
+    bool own_rule[3 * kMaxPieces] = {};
+    for (int p = 0; p < parts; ++p) own_rule[p] = polar_cancels(split[p], apex);
+    unsigned skip[3 * kMaxPieces] = {};
+    for (int p = 0; p < parts; ++p) {
+      const int sp = sense(split[p]);
       if (sp == 0 || own_rule[p]) continue;
       for (int e = 0; e < 3; ++e) {
         if (skip[p] & (1u << e)) continue;
-        const Point2 a = pieces[p].v[e], b = pieces[p].v[(e + 1) % 3];
-        for (int r = p + 1; r < count && !(skip[p] & (1u << e)); ++r) {
-          if (own_rule[r] || pieces[r].side != pieces[p].side || (ridge && triangle[r] != triangle[p])) continue;
-          const int sr = sense(pieces[r]);
+        const Point2 a = split[p].v[e], b = split[p].v[(e + 1) % 3];
+        for (int r = p + 1; r < parts && !(skip[p] & (1u << e)); ++r) {
+          if (own_rule[r] || split[r].side != split[p].side || ray[r] != ray[p] || (ridge && split_tri[r] != split_tri[p])) continue;
+          const int sr = sense(split[r]);
           if (sr == 0) continue;
           for (int k = 0; k < 3; ++k) {
             if (skip[r] & (1u << k)) continue;
-            const Point2 c = pieces[r].v[k], d = pieces[r].v[(k + 1) % 3];
+            const Point2 c = split[r].v[k], d = split[r].v[(k + 1) % 3];
             if ((c == b && d == a && sr == sp) || (c == a && d == b && sr == -sp)) {
               skip[p] |= 1u << e;
               skip[r] |= 1u << k;
@@ -1259,15 +1322,15 @@ void for_each_point(const PlateModel& m, const CellView& v, F&& f, const PolarRu
         }
       }
     }
-    for (int p = 0; p < count; ++p) {
-      const xfem::TrianglePiece& q = pieces[p];
+    for (int p = 0; p < parts; ++p) {
+      const xfem::TrianglePiece& q = split[p];
       const int material = material_of(m, v, q.side);
       if (material < 0) continue;
       if (own_rule[p]) {
-        integrate(q, triangle[p], material);
+        integrate(q, split_tri[p], material);
         continue;
       }
-      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, skip[p], [&](double xi, double eta, double w) { f(xi, eta, w, triangle[p], q.side, material); });
+      polar_piece(q, apex, m.cell_size[0], m.cell_size[1], rule, skip[p], [&](double xi, double eta, double w) { f(xi, eta, w, split_tri[p], q.side, material); });
     }
     return;
   }
