@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "xfdem/coupling/plate_boundary.hpp"
 #include "xfdem/plate.hpp"
 
 using namespace xfdem;
@@ -156,7 +157,8 @@ TEST(PlateThinVoid, VoidTwoCellsWideMatchesARefinedMesh) {
 // node of its four cells has φ = 0. Those cells are void (their centre is
 // inside by the exact level set), their neighbours keep their material, and
 // the answer is that of the void widened or shifted by a tiny cut (δ = 1e-7
-// of a cell, whose nodes are then strictly inside) within 10 δ relative.
+// of a cell, whose nodes are then strictly inside) within 10 δ relative;
+// the coupled contact boundary (plate_boundary_build) traces its sides.
 TEST(PlateThinVoid, OneCellVoidOnNodeLinesIsVoid) {
   auto desc = [](double grow) {
     PlateDesc d = pulled_square(10);
@@ -186,4 +188,26 @@ TEST(PlateThinVoid, OneCellVoidOnNodeLinesIsVoid) {
               on_lines, delta, grown.energy, plain);
   EXPECT_LE(std::fabs(grown.energy - on_lines), 10.0 * delta * on_lines);
   EXPECT_GT(on_lines - plain, 1e3 * std::fabs(grown.energy - on_lines));  // the void is there
+  // The coupled contact boundary traces the void's four sides, cell edges on
+  // node lines: 4 + 4 + 1 + 1 segments more than the uncut plate's, in
+  // closed chains.
+  // (A coupled plate is dynamic.)
+  PlateDesc dyn = desc(0.0), dyn_uncut = uncut;
+  dyn.analysis = dyn_uncut.analysis = PlateDesc::Analysis::dynamic;
+  dyn.dt = dyn_uncut.dt = 1e-5;
+  { const BuildResult rd = build_plate(dyn, m, s, w); ASSERT_TRUE(rd.ok()) << rd.message; }
+  PlateBoundary with_void, without;
+  const BuildResult rb = plate_boundary_build(m, 1e-3, 0.05, with_void);
+  ASSERT_TRUE(rb.ok()) << rb.message;
+  PlateModel mu;
+  PlateState su;
+  PlateWorkspace wu;
+  ASSERT_TRUE(build_plate(dyn_uncut, mu, su, wu).ok());
+  ASSERT_TRUE(plate_boundary_build(mu, 1e-3, 0.05, without).ok());
+  EXPECT_EQ(with_void.segments.size(), without.segments.size() + 10);
+  EXPECT_EQ(with_void.vertices.size(), with_void.segments.size());
+  for (const PlateBoundaryVertex& v : with_void.vertices) {
+    EXPECT_GE(v.prev, 0);
+    EXPECT_GE(v.next, 0);
+  }
 }
