@@ -407,11 +407,17 @@ BuildResult plate_boundary_build(const PlateModel& m, double max_radius, double 
   auto void_beside = [&](int ci, int cj, int k) {
     const auto c = static_cast<std::size_t>(cj * nx + ci);
     if (m.cell_material[c] < 0) {
+      // Some node inside void k; or every node on its boundary (a void one
+      // cell wide on node lines, whose cells the plate makes void by the
+      // exact level set at their centre: docs/xfem2d.md, "Thinner than the mesh").
+      bool all_on = true;
       for (int a = 0; a < 4; ++a) {
         const int di = (a == 1 || a == 2) ? 1 : 0, dj = a >= 2 ? 1 : 0;
-        if (phi_at(m, k, (cj + dj) * (nx + 1) + ci + di) < 0.0) return true;
+        const double p = phi_at(m, k, (cj + dj) * (nx + 1) + ci + di);
+        if (p < 0.0) return true;
+        all_on = all_on && p == 0.0;
       }
-      return false;
+      return all_on;
     }
     const bool cut_by_k = m.cell_cut_by[c] == k || m.cell_second_cut[c] == k;
     return cut_by_k && centre_phi(k, ci, cj) < 0.0;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -2061,6 +2062,194 @@ BuildResult validate_plate(const PlateDesc& d) {
 
 // ---- build --------------------------------------------------------------------
 
+/// Whether the centre x of a cell all of whose nodes lie on the boundary of
+/// void or inclusion q (φ = 0 there) is inside it: the exact level set at x,
+/// snapped to 0 within 1e-9 of a cell (h) as nodes are, and the one sign rule
+/// (a point on the zero is outside). docs/xfem2d.md, "Thinner than the mesh".
+bool centre_inside(const PlateDiscontinuity& q, Point2 x, double h) {
+  const double exact = q.shape == PlateDiscontinuity::Shape::circle
+                           ? xfem::circle_level_set({q.centre[0], q.centre[1]}, q.radius, x)
+                           : xfem::polygon_level_set(q.points, x);
+  return xfem::side_of(std::fabs(exact) <= 1e-9 * h ? 0.0 : exact) < 0;
+}
+
+/// The level set bounding a cell's material as it is integrated: the void's
+/// at the nodes and the centre (cell_centre_phi) where a void cuts the cell
+/// (alone, or with a crack); +1 everywhere in a cell of material otherwise
+/// (uncut, or cut by a crack or an inclusion: material on both sides), −1 in
+/// a cell without material. Returns the void (−1: none).
+int cell_material_phi(const PlateModel& m, int i, int j, double phi[5]) {
+  const PlateDesc& d = m.desc;
+  const int nx = d.cells[0];
+  const auto cell = static_cast<std::size_t>(j * nx + i);
+  const int cut = m.cell_cut_by[cell], second = m.cell_second_cut[cell];
+  int hole = -1;
+  if (second >= 0 && d.discontinuities[static_cast<std::size_t>(second)].kind == PlateDiscontinuity::Kind::hole)
+    hole = second;
+  else if (second < 0 && cut >= 0 && d.discontinuities[static_cast<std::size_t>(cut)].kind == PlateDiscontinuity::Kind::hole)
+    hole = cut;
+  int en[4];
+  cell_nodes(nx, i, j, en);
+  if (m.cell_material[cell] < 0) {  // no material: the void it lies in, for the message
+    for (int a = 0; a < 5; ++a) phi[a] = -1.0;
+    if (hole >= 0) return hole;
+    for (std::size_t k = 0; k < d.discontinuities.size(); ++k) {
+      if (d.discontinuities[k].kind != PlateDiscontinuity::Kind::hole) continue;
+      bool in = true;
+      for (int a = 0; a < 4; ++a) in = in && phi_at(m, static_cast<int>(k), en[a]) <= 0.0;
+      if (in) return static_cast<int>(k);
+    }
+    return -1;
+  }
+  if (hole < 0) {
+    for (int a = 0; a < 5; ++a) phi[a] = 1.0;
+    return -1;
+  }
+  for (int a = 0; a < 4; ++a) phi[a] = phi_at(m, hole, en[a]);
+  const Point2 centre = {0.5 * (node_coord(d.min[0], d.max[0], i, nx) + node_coord(d.min[0], d.max[0], i + 1, nx)),
+                         0.5 * (node_coord(d.min[1], d.max[1], j, d.cells[1]) +
+                                node_coord(d.min[1], d.max[1], j + 1, d.cells[1]))};
+  phi[4] = cell_centre_phi(d, hole, phi, centre, std::min(m.cell_size[0], m.cell_size[1]));
+  return hole;
+}
+
+/// The part of a segment where a linear φ (a at its start, b at its end) is
+/// material (φ > 0; the whole segment when φ = 0 along it), as [lo, hi] in
+/// its parameter; empty when lo ≥ hi.
+void material_interval(double a, double b, double& lo, double& hi) {
+  if (a == 0.0 && b == 0.0) { lo = 0.0, hi = 1.0; return; }
+  if (a <= 0.0 && b <= 0.0) { lo = 1.0, hi = 0.0; return; }
+  if (a >= 0.0 && b >= 0.0) { lo = 0.0, hi = 1.0; return; }
+  const double r = a / (a - b);
+  if (a > 0.0) lo = 0.0, hi = r;
+  else lo = r, hi = 1.0;
+}
+
+/// A void thinner than the mesh (docs/xfem2d.md, "Thinner than the mesh"):
+/// a node whose support's material falls into parts the void separates
+/// ties them together through its shape functions (no enrichment copies a
+/// void's node per part): a slot narrower than about two cells was bridged,
+/// a strip across the plate held its far side. The material is taken as it
+/// is integrated: the parts of the four sub-triangles of each cell, split
+/// along the void's φ_T. Parts connect through a shared edge (two
+/// sub-triangles of a cell: the one to the centre; neighbouring cells: their
+/// common cell edge) with material of positive length on both sides, and
+/// at a node of the mesh where φ ≥ 0 that both touch (a void's corner or
+/// boundary through the node). Connections count within the node's support
+/// grown by one cell on each side (4 × 4 cells): a polygon's acute corner
+/// is thinner than the mesh near its tip, and the material on its two sides
+/// meets within a cell beyond the support there; a slot or a strip is
+/// separated farther than that. A node at least a cell inside a void is
+/// not checked (below). Refused, naming the void and the node.
+BuildResult refuse_void_bridges(const PlateModel& m) {
+  const PlateDesc& d = m.desc;
+  const int nx = d.cells[0], ny = d.cells[1];
+  constexpr int kPatch = 4;  // cells a side: the support (the middle 2 × 2) and a ring of one cell
+  constexpr int kParts = 4 * kPatch * kPatch;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      // Patch cell (px, py) is the mesh's (i − 2 + px, j − 2 + py); the support's are px, py ∈ {1, 2}.
+      double phi[kPatch * kPatch][5];
+      bool present[kPatch * kPatch] = {};
+      int hole = -1;
+      for (int q = 0; q < kPatch * kPatch; ++q) {
+        const int px = q % kPatch, py = q / kPatch;
+        const int ci = i - 2 + px, cj = j - 2 + py;
+        if (ci < 0 || cj < 0 || ci >= nx || cj >= ny) continue;
+        present[q] = true;
+        const int h = cell_material_phi(m, ci, cj, phi[q]);
+        const bool support = px >= 1 && px <= 2 && py >= 1 && py <= 2;
+        if (support && hole < 0) hole = h;
+      }
+      if (hole < 0) continue;  // no void in the support: its material is whole
+      // A node at least a cell inside a void: the void holds the disc of
+      // radius one cell about it (two cells across), and its support's
+      // material lies only in the corners beyond that disc, where its shape
+      // function is below (1 − 1/√2)² = 0.086 (a node near a circle's centre).
+      bool deep = false;
+      const int node = j * (nx + 1) + i;
+      const double cell = std::min(m.cell_size[0], m.cell_size[1]);
+      for (std::size_t k = 0; k < d.discontinuities.size() && !deep; ++k)
+        deep = d.discontinuities[k].kind == PlateDiscontinuity::Kind::hole &&
+               phi_at(m, static_cast<int>(k), node) <= -(1.0 - 1e-9) * cell;
+      if (deep) continue;
+      // Part 4 q + t: sub-triangle t (nodes t, t + 1 and the centre) of patch cell q.
+      int parent[kParts];
+      bool has[kParts] = {};
+      for (int s = 0; s < kParts; ++s) parent[s] = s;
+      auto find = [&](int s) {
+        while (parent[s] != s) s = parent[s] = parent[parent[s]];
+        return s;
+      };
+      auto join = [&](int a, int b) { parent[find(a)] = find(b); };
+      for (int q = 0; q < kPatch * kPatch; ++q) {
+        if (!present[q]) continue;
+        const double* p = phi[q];
+        for (int t = 0; t < 4; ++t) {
+          const double a = p[t], b = p[(t + 1) % 4], c = p[4];
+          has[4 * q + t] = a > 0.0 || b > 0.0 || c > 0.0 || (a == 0.0 && b == 0.0 && c == 0.0);
+        }
+        for (int t = 0; t < 4; ++t) {  // t and t + 1 share the edge from node t + 1 to the centre
+          const int u = (t + 1) % 4;
+          double lo = 0.0, hi = 0.0;
+          material_interval(p[u], p[4], lo, hi);
+          if (has[4 * q + t] && has[4 * q + u] && lo < hi) join(4 * q + t, 4 * q + u);
+        }
+      }
+      // Common cell edges: cell a's edge (sub-triangle ta, local nodes a0 → a1) is cell b's (tb, b0 → b1).
+      auto edge = [&](int qa, int ta, int a0, int a1, int qb, int tb, int b0, int b1) {
+        if (!present[qa] || !present[qb]) return;
+        const int sa = 4 * qa + ta, sb = 4 * qb + tb;
+        if (!has[sa] || !has[sb]) return;
+        double alo = 0.0, ahi = 0.0, blo = 0.0, bhi = 0.0;
+        material_interval(phi[qa][a0], phi[qa][a1], alo, ahi);
+        material_interval(phi[qb][b0], phi[qb][b1], blo, bhi);
+        if (std::max(alo, blo) < std::min(ahi, bhi)) join(sa, sb);
+      };
+      for (int py = 0; py < kPatch; ++py)
+        for (int px = 0; px < kPatch; ++px) {
+          const int q = py * kPatch + px;
+          if (px + 1 < kPatch) edge(q, 1, 1, 2, q + 1, 3, 0, 3);        // right | left: bottom to top
+          if (py + 1 < kPatch) edge(q, 2, 3, 2, q + kPatch, 0, 0, 1);   // top | bottom: left to right
+        }
+      // Parts that touch at a node of the mesh where φ ≥ 0.
+      int at_node[(kPatch + 1) * (kPatch + 1)];
+      for (int& g : at_node) g = -1;
+      for (int q = 0; q < kPatch * kPatch; ++q) {
+        if (!present[q]) continue;
+        for (int t = 0; t < 4; ++t) {
+          if (!has[4 * q + t]) continue;
+          for (const int a : {t, (t + 1) % 4}) {
+            if (phi[q][a] < 0.0) continue;
+            const int gx = q % kPatch + (a == 1 || a == 2 ? 1 : 0), gy = q / kPatch + (a >= 2 ? 1 : 0);
+            int& slot = at_node[gy * (kPatch + 1) + gx];
+            if (slot < 0) slot = 4 * q + t;
+            else join(slot, 4 * q + t);
+          }
+        }
+      }
+      // The support's parts: one piece?
+      int first = -1;
+      bool split = false;
+      for (int py = 1; py <= 2 && !split; ++py)
+        for (int px = 1; px <= 2 && !split; ++px)
+          for (int t = 0; t < 4 && !split; ++t) {
+            const int s = 4 * (py * kPatch + px) + t;
+            if (!present[py * kPatch + px] || !has[s]) continue;
+            if (first < 0) first = find(s);
+            else split = find(s) != first;
+          }
+      if (!split) continue;
+      return BuildResult::failure(Code::invalid_argument,
+                                  "discontinuities.%d: the void '%s' is thinner than the mesh at the node (%g, %g): "
+                                  "the material in the node's cells lies in pieces the void separates, which the "
+                                  "node's shape functions would tie together; refine the mesh",
+                                  hole, d.discontinuities[static_cast<std::size_t>(hole)].name.c_str(),
+                                  node_coord(d.min[0], d.max[0], i, nx), node_coord(d.min[1], d.max[1], j, ny));
+    }
+  return BuildResult::success();
+}
+
 BuildResult build_plate(const PlateDesc& desc, PlateModel& model, PlateState& state, PlateWorkspace& workspace) {
   model = PlateModel{};
   state = PlateState{};
@@ -2256,7 +2445,13 @@ BuildResult build_plate(const PlateDesc& desc, PlateModel& model, PlateState& st
               continue;
             }
             model.cell_cut_by[cell] = static_cast<int>(k);
-          } else if (lo < 0.0 && q.kind != PlateDiscontinuity::Kind::crack) {  // wholly inside
+          } else if (q.kind != PlateDiscontinuity::Kind::crack &&
+                     (lo < 0.0 || (lo == 0.0 && hi == 0.0 &&
+                                   centre_inside(q, {0.5 * (xs(i) + xs(i + 1)), 0.5 * (ys(j) + ys(j + 1))},
+                                                 std::min(hx, hy))))) {
+            // Wholly inside; or every node on the boundary (φ = 0, a void or an
+            // inclusion one cell wide between node lines) and the centre inside by
+            // the exact level set (docs/xfem2d.md, "Thinner than the mesh").
             model.cell_material[cell] = q.kind == PlateDiscontinuity::Kind::hole ? -1 : 1 + static_cast<int>(k);
           }
         }
@@ -2543,6 +2738,10 @@ BuildResult build_plate(const PlateDesc& desc, PlateModel& model, PlateState& st
     model.moving_amplitude.push_back(model.node_held[k]);
   }
 
+  // A void thinner than the mesh: a node whose support's material falls into
+  // pieces not connected within the support would tie them together.
+  if (ndisc > 0)
+    if (BuildResult r = refuse_void_bridges(model); !r.ok()) return r;
   // A node whose support holds no material (wholly in a hole) has no unknowns.
   std::vector<char> has_material(static_cast<std::size_t>(nodes), 1);
   if (ndisc > 0)
