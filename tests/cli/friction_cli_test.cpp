@@ -124,10 +124,96 @@ TEST(FrictionCli, Abm4EventsWithFrictionPairsAllWithAll) {
   EXPECT_EQ(row[3], 0.0);
   const auto r2 = run("run " + scene.string() + " --set dem.all_pairs_up_to=8 --csv " + csv.string());
   EXPECT_NE(r2.exit_code, 0);
-  EXPECT_NE(r2.err.find("scene key 'dem.integrator': abm4_events with friction, rolling friction or the hertz law "
-                        "takes the pairs of broad phase none or all_pairs (20 particles need the grid"),
+  EXPECT_NE(r2.err.find("scene key 'dem.integrator': abm4_events with friction, rolling friction, the hertz law or a "
+                        "spinning particle takes the pairs of broad phase none or all_pairs (20 particles need the grid"),
             std::string::npos)
       << r2.err;
+}
+
+// The report's disk: a spin given in a frictionless linear scene is kept (it
+// was dropped: ω and the kinetic energy read 0 from t = 0), ½ I ω² =
+// 0.030625 J counted, the angle ω t turned.
+TEST(FrictionCli, SpinWithoutFrictionIsKept) {
+  const fs::path dir = xfdem::testing::scratch("friction_cli_test");
+  const fs::path scene = dir / "spin.json", csv = dir / "spin.csv";
+  std::ofstream(scene) << R"({ "dimension": 2, "gravity": [0, 0], "time": { "end": 0.1, "dt": 1e-4 },
+  "dem": { "integrator": "verlet", "contact": { "law": "linear", "damping_ratio": 0.1 },
+    "particles": [ { "name": "d1", "mass": 1, "radius": 0.05, "stiffness": 1e6, "position": [0, 1],
+                     "angular_velocity": 7.0 } ] },
+  "output": { "every": 0.05, "probes": [ { "name": "w", "particle": "d1", "quantity": "angular_velocity" },
+    { "name": "angle", "particle": "d1", "quantity": "rotation" },
+    { "name": "Ek", "quantity": "energy", "of": "kinetic" } ] } })";
+  const auto r = run("run " + scene.string() + " --csv " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  const std::vector<double> row = xfdem::testing::last_csv_row(csv);
+  ASSERT_EQ(row.size(), 4u);
+  EXPECT_EQ(row[1], 7.0);
+  EXPECT_NEAR(row[2], 0.7, 1e-13);
+  EXPECT_NEAR(row[3], 0.030625, 1e-17);
+}
+
+// Keys without effect are accepted (a sweep of μ down to 0 keeps its other
+// keys) but said on stderr, naming the key and why: the tangential stiffness
+// ratio with friction 0, a particle's inertia on a line or in a model whose
+// particles do not rotate. The run is the same as without them.
+TEST(FrictionCli, KeysWithoutEffectAreWarnings) {
+  const fs::path dir = xfdem::testing::scratch("friction_cli_test");
+  auto scene_with = [&](const std::string& name, int dimension, const std::string& contact, const std::string& extra) {
+    const fs::path scene = dir / (name + ".json");
+    const std::string zeros = dimension == 1 ? "0" : "0, 0";
+    std::ofstream(scene) << R"({ "dimension": )" << dimension << R"(, "gravity": [)" << (dimension == 1 ? "-9.81" : "0, -9.81")
+                         << R"(], "time": { "end": 0.01, "dt": 1e-4 },
+  "dem": { "integrator": "verlet", "contact": { "damping_ratio": 0.1)" << contact << R"( },
+    "particles": [ { "name": "p", "mass": 1, "radius": 0.05, "stiffness": 1e6, "position": [)"
+                         << (dimension == 1 ? "0.2" : "0, 0.2") << "]" << extra << R"( } ],
+    "planes": [ { "point": [)" << zeros << R"(], "normal": [)" << (dimension == 1 ? "1" : "0, 1") << R"(] } ] },
+  "output": { "every": 0.005, "probes": [ { "name": "y", "particle": "p", "quantity": "position", "component": )"
+                         << dimension - 1 << R"( } ] } })";
+    return scene;
+  };
+  const std::string ratio_warning =
+      "xfdem: warning: dem.contact.tangential_stiffness_ratio: has no effect: friction is 0, so the contacts carry no "
+      "tangential spring\n";
+  {
+    const auto r = run("run " + scene_with("line", 1, R"(, "tangential_stiffness_ratio": 0.5)", R"(, "inertia": 0.3)")
+                                    .string() +
+                       " --csv " + (dir / "line.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find(ratio_warning), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("xfdem: warning: dem.particles.0.inertia: has no effect: rods on a line do not rotate\n"),
+              std::string::npos)
+        << r.err;
+    const auto plain = run("run " + scene_with("line_plain", 1, "", "").string() + " --csv " +
+                           (dir / "line_plain.csv").string());
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_EQ(plain.err.find("warning"), std::string::npos) << plain.err;
+    EXPECT_EQ(xfdem::testing::slurp(dir / "line.csv"), xfdem::testing::slurp(dir / "line_plain.csv"));
+  }
+  {
+    const auto r = run("run " + scene_with("plane2d", 2, R"(, "friction": 0, "tangential_stiffness_ratio": 0.5)",
+                                           R"(, "inertia": 0.003)")
+                                    .string() +
+                       " --csv " + (dir / "plane2d.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find(ratio_warning), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("xfdem: warning: dem.particles.0.inertia: has no effect: the particles do not rotate (no "
+                         "friction, rolling_friction, hertz law or angular_velocity)\n"),
+              std::string::npos)
+        << r.err;
+  }
+  {  // with friction, or a spin, neither is said
+    const auto r = run("run " + scene_with("rough", 2, R"(, "friction": 0.3, "tangential_stiffness_ratio": 0.5)",
+                                           R"(, "inertia": 0.003)")
+                                    .string() +
+                       " --csv " + (dir / "rough.csv").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    const auto spin = run("run " + scene_with("spin", 2, "", R"(, "inertia": 0.003, "angular_velocity": 2)").string() +
+                          " --csv " + (dir / "spin.csv").string());
+    ASSERT_EQ(spin.exit_code, 0) << spin.err;
+    EXPECT_EQ(spin.err.find("warning"), std::string::npos) << spin.err;
+  }
 }
 
 }  // namespace

@@ -528,7 +528,8 @@ TEST(FrictionInputs, RefusedNamingTheKey) {
   d.all_pairs_up_to = 0;
   d.particles.push_back(d.particles[0]);
   d.particles.back().position[1] += 1.0;
-  refused(d, "integrator: abm4_events with friction, rolling friction or the hertz law takes the pairs of broad phase "
+  refused(d, "integrator: abm4_events with friction, rolling friction, the hertz law or a spinning particle takes the "
+             "pairs of broad phase "
              "none or all_pairs");
   DemDesc<1> line;
   line.dt = 1e-5;

@@ -130,6 +130,7 @@ int run(int argc, char** argv) {
   if (scene_path.empty()) throw xfdem::scene::SceneError("no scene file given");
   xfdem::cli::stage = "loading the scene file";
   const xfdem::scene::Scene scene = xfdem::scene::load_scene(scene_path, overrides);
+  for (const std::string& warning : scene.warnings) std::fprintf(stderr, "xfdem: warning: %s\n", warning.c_str());
   // The VTK files of a run that fails are removed (no partial output).
   std::optional<xfdem::scene::VtkSeries> series;
   struct Abandon {

@@ -59,7 +59,7 @@ void refuse_unused_capacities(const ObjectReader& caps, const DemDesc<D>& desc, 
 
 template <int D>
 DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::string>& names,
-                     std::vector<std::string>& plane_names) {
+                     std::vector<std::string>& plane_names, std::vector<std::string>& warnings) {
   DemDesc<D> desc;
   desc.dt = scene.dt / scene.dem_substeps;
   desc.gravity = to_array<D>(scene.gravity);
@@ -87,6 +87,10 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
     desc.friction = contact.real_or("friction", 0.0, kNonNegative);
     desc.tangential_stiffness_ratio = contact.real_or("tangential_stiffness_ratio", 0.0, kPositive);
     desc.rolling_friction = contact.real_or("rolling_friction", 0.0, kNonNegative);
+    // Accepted (a sweep of μ down to 0 keeps its other keys), but said.
+    if (contact.has("tangential_stiffness_ratio") && desc.friction == 0)
+      warnings.push_back(contact.key_path("tangential_stiffness_ratio") +
+                         ": has no effect: friction is 0, so the contacts carry no tangential spring");
     contact.finish();
   }
   desc.skin = dem.real_or("skin", 0.0, kNonNegative);
@@ -108,6 +112,7 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
     caps->finish();
   }
   std::map<std::string, std::string> seen;  // name -> path
+  std::vector<std::string> inertia_keys;   // particles given an inertia (said below when nothing turns)
   for (const auto& [value, path] : dem.array("particles")) {
     ObjectReader p(*value, path);
     ParticleDesc<D> particle;
@@ -134,6 +139,7 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
       else particle.angular_velocity = to_array<3>(p.vector("angular_velocity", 3));
     }
     particle.inertia = p.real_or("inertia", 0.0, kPositive);
+    if (p.has("inertia")) inertia_keys.push_back(p.key_path("inertia"));
     p.finish();
     names.push_back(name);
     desc.particles.push_back(particle);
@@ -161,13 +167,23 @@ DemDesc<D> parse_dem(ObjectReader& dem, const Scene& scene, std::vector<std::str
       desc.planes.push_back(plane);
     }
   }
-  // abm4_events with rotation (friction, rolling friction, hertz) takes a
+  // abm4_events with rotation (friction, rolling friction, hertz, a spin) takes a
   // fixed all-pairs list (the kernel refuses the grid: docs/dem.md); without
   // the key, a scene of up to kEventsAllPairsUpTo particles pairs them all
   // rather than being refused (O(N²) pairs: beyond that, the kernel's message
   // says what to change).
   constexpr std::int32_t kEventsAllPairsUpTo = 512;
-  const bool rotates = desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz;
+  // The kernel's rule (DemFeatures::rotation): the law turns the particles, or one is given a spin.
+  bool spin = false;
+  for (const auto& p : desc.particles)
+    for (double w : p.angular_velocity) spin = spin || w != 0.0;
+  const bool rotates = D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz || spin);
+  if (!rotates)
+    for (const std::string& key : inertia_keys)
+      warnings.push_back(key + ": has no effect: " +
+                         (D == 1 ? std::string("rods on a line do not rotate")
+                                 : std::string("the particles do not rotate (no friction, rolling_friction, hertz law "
+                                               "or angular_velocity)")));
   if (!dem.has("all_pairs_up_to") && desc.integrator == DemIntegrator::abm4_events && rotates)
     desc.all_pairs_up_to = std::max(desc.all_pairs_up_to,
                                     static_cast<std::int32_t>(std::min<std::size_t>(desc.particles.size(), kEventsAllPairsUpTo)));
@@ -296,9 +312,9 @@ Scene parse_scene(const Json& document) {
   if (top.has("dem")) {
     ObjectReader dem = top.object("dem");
     switch (scene.dimension) {
-      case 1: scene.dem = parse_dem<1>(dem, scene, scene.particle_names, plane_names); break;
-      case 2: scene.dem = parse_dem<2>(dem, scene, scene.particle_names, plane_names); break;
-      default: scene.dem = parse_dem<3>(dem, scene, scene.particle_names, plane_names); break;
+      case 1: scene.dem = parse_dem<1>(dem, scene, scene.particle_names, plane_names, scene.warnings); break;
+      case 2: scene.dem = parse_dem<2>(dem, scene, scene.particle_names, plane_names, scene.warnings); break;
+      default: scene.dem = parse_dem<3>(dem, scene, scene.particle_names, plane_names, scene.warnings); break;
     }
     dem.finish();
     std::visit(

@@ -83,6 +83,9 @@ struct Scene {
   std::vector<Probe> probes;
   /// The steppers' energy balance check (key `energy_check`, optional).
   EnergyCheck energy_check;
+  /// Keys accepted but without effect in this scene ("<key>: has no effect: <why>"):
+  /// the CLI prints each as a warning on stderr.
+  std::vector<std::string> warnings;
 };
 
 /// The coupled stepper's description of a scene with particles and a bar.

@@ -90,7 +90,8 @@ struct ParticleDesc {
   double stiffness = 0;  ///< N/m, > 0 (the particle's own normal stiffness k_i)
   std::array<double, D> position{};  ///< m
   std::array<double, D> velocity{};  ///< m/s
-  /// rad/s: 2D about z; 3D [wx, wy, wz]. Read only when the model rotates.
+  /// rad/s: 2D about z; 3D [wx, wy, wz]. A non-zero spin makes the model
+  /// rotate (DemFeatures::rotation), with or without friction.
   std::array<double, spin_components(D)> angular_velocity{};
   /// kg·m², > 0; 0: the solid's own, ½ m r² (disk) or 2/5 m r² (sphere).
   double inertia = 0;
@@ -250,7 +251,8 @@ struct DemFeatures {
   bool external_forces = false;
   bool external_torques = false;
   bool external_contacts = false;  ///< DemDesc::external_contacts
-  /// Friction or rolling resistance: the particles rotate, contacts keep a
+  /// Friction, rolling resistance, the hertz law, or a particle given a
+  /// non-zero angular velocity: the particles rotate, contacts keep a
   /// tangential history, and the step is the granular one (dem/granular.cpp).
   bool rotation = false;
   BroadPhase broad_phase = BroadPhase::none;
@@ -633,7 +635,8 @@ DemEnergy dem_energy(const DemModel<D>& model, const DemState<D>& state);
 
 /// Normal force K δ + η δ' between particles i and j (compressive positive; 0
 /// when apart; slightly negative at the end of a `linear` contact; clamped at 0
-/// for linear_nontensile).
+/// for linear_nontensile), δ' at the velocities the step evaluated the law
+/// with (Verlet: v − h/2 a, its kicked velocity; the force it applied).
 template <int D>
 double dem_pair_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t j);
 
@@ -642,10 +645,11 @@ template <int D>
 double dem_plane_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t p);
 
 /// Tangential force of a rotating model's contact on the second body, from
-/// the stored spring and the current velocities (the step's law, not advanced):
-/// 2D signed along t = (−n_y, n_x), n from particle i to particle j (to the
-/// plane for a plane contact, i.e. against its normal); 3D its magnitude.
-/// 0 when apart or in a model without friction; NaN for a bad index.
+/// the stored spring and the velocities the step evaluated the law with (the
+/// step's law, not advanced; Verlet's kicked v_n+1/2, see docs/dem.md):
+/// 2D signed along t = (−n_y, n_x), n from particle i to particle j (a plane
+/// is the first body: n its normal, the force on the particle); 3D its
+/// magnitude. 0 when apart or in a model without friction; NaN for a bad index.
 template <int D>
 double dem_pair_tangential_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t j);
 template <int D>

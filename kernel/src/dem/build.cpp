@@ -111,10 +111,8 @@ inline Compliance compliance(double E, double nu) {
   return {(1.0 - nu * nu) / E, 2.0 * (2.0 - nu) * (1.0 + nu) / E};
 }
 
-template <int D>
-bool rotates(const DemDesc<D>& desc) {
-  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz);
-}
+using dem_detail::law_rotates;
+using dem_detail::rotates;
 
 /// The hertz law's stable-step rule: its stiffness grows with the overlap, so
 /// the build checks the stiffest contact at the reference overlap
@@ -599,7 +597,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
                                   "%s: rods on a line do not rotate: friction and rolling friction need 2D or 3D",
                                   desc.friction > 0 ? "friction" : "rolling_friction");
   }
-  if (desc.external_torques && !(D == 2 && rotates(desc)))
+  if (desc.external_torques && !(D == 2 && law_rotates(desc)))
     return BuildResult::failure(Code::invalid_argument,
                                 "external_torques: needs particles that rotate in 2D (friction or rolling_friction > 0, "
                                 "or the hertz law; the energy books count a torque's work on the 2D angle) (D = %d)",
@@ -635,7 +633,7 @@ BuildResult build_dem(const DemDesc<D>& desc, DemModel<D>& m, DemState<D>& s, De
   // stage that could still refuse the step, and would leave them advanced.
   if (desc.integrator == DemIntegrator::abm4_events && rotates(desc) && sizes.broad_phase == BroadPhase::grid)
     return BuildResult::failure(Code::invalid_argument,
-                                "integrator: %s with friction, rolling friction or the hertz law takes the pairs of "
+                                "integrator: %s with friction, rolling friction, the hertz law or a spinning particle takes the pairs of "
                                 "broad phase none or all_pairs (%lld particles need the grid; raise all_pairs_up_to "
                                 "or use abm4, rk4, verlet or symplectic_euler)",
                                 integrator_name(desc.integrator), (long long)n);

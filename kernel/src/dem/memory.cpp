@@ -140,7 +140,7 @@ DemMemory dem_memory(const DemDesc<D>& desc) {
     m.workspace += static_cast<std::uint64_t>(r.max_cells + 1) * DemMemory::kBytesPerGridCell + 2 * n * index;
   const bool hertz = desc.law == ContactLaw::hertz;
   if (D > 1 && hertz) m.model += 2 * (n + planes) * real;  // each body's 1/E and 1/G terms
-  if (D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || hertz)) {
+  if (dem_detail::rotates(desc)) {
     // Rotation: 1/I; ω, the history ring of ω and α (and the 2D angle), in the state
     // and as the step's trial copies; each pair record's and each particle–plane
     // contact's tangential spring; the grid's copy of the old records at a rebuild.

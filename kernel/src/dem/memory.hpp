@@ -21,6 +21,31 @@ struct ResolvedSizes {
 template <int D>
 ResolvedSizes resolve_sizes(const DemDesc<D>& desc);
 
+/// Whether the contact law turns the particles: friction, rolling friction or
+/// the hertz law (2D and 3D).
+template <int D>
+bool law_rotates(const DemDesc<D>& desc) {
+  return D > 1 && (desc.friction > 0 || desc.rolling_friction > 0 || desc.law == ContactLaw::hertz);
+}
+
+/// Whether a particle is given a non-zero angular velocity (2D and 3D).
+template <int D>
+bool spins(const DemDesc<D>& desc) {
+  for (const auto& p : desc.particles)
+    for (double w : p.angular_velocity)
+      if (w != 0.0) return true;
+  return false;
+}
+
+/// Whether the model rotates (DemFeatures::rotation): its law turns the
+/// particles, or a particle is given a spin, which it keeps (a frictionless
+/// contact exerts no torque) and whose ½ I ω² the books count. A frictionless
+/// model without spin keeps the plain step, bit for bit.
+template <int D>
+bool rotates(const DemDesc<D>& desc) {
+  return law_rotates(desc) || (D > 1 && spins(desc));
+}
+
 /// Largest max_grid_cells an int32 cell index can count to (the grid keeps
 /// cells + 1 offsets).
 inline constexpr std::int64_t kMaxGridCells = 2147483646;
