@@ -635,8 +635,8 @@ DemEnergy dem_energy(const DemModel<D>& model, const DemState<D>& state);
 
 /// Normal force K δ + η δ' between particles i and j (compressive positive; 0
 /// when apart; slightly negative at the end of a `linear` contact; clamped at 0
-/// for linear_nontensile), δ' at the velocities the step evaluated the law
-/// with (Verlet: v − h/2 a, its kicked velocity; the force it applied).
+/// for linear_nontensile), δ' at the state's velocities (Verlet's step used
+/// its kicked v_n+1/2: see docs/dem.md, "Probes").
 template <int D>
 double dem_pair_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t j);
 
@@ -645,8 +645,8 @@ template <int D>
 double dem_plane_force(const DemModel<D>& model, const DemState<D>& state, std::int32_t i, std::int32_t p);
 
 /// Tangential force of a rotating model's contact on the second body, from
-/// the stored spring and the velocities the step evaluated the law with (the
-/// step's law, not advanced; Verlet's kicked v_n+1/2, see docs/dem.md):
+/// the stored spring and the state's velocities (the step's law, not
+/// advanced; Verlet's step used its kicked v_n+1/2, see docs/dem.md):
 /// 2D signed along t = (−n_y, n_x), n from particle i to particle j (a plane
 /// is the first body: n its normal, the force on the particle); 3D its
 /// magnitude. 0 when apart or in a model without friction; NaN for a bad index.

@@ -10,39 +10,14 @@
 namespace xfdem {
 namespace {
 
-/// The velocity and spin at which the step evaluated the contact law whose
-/// forces gave the state's accelerations (history slot `history_head`): the
-/// force probes read the force the step applied (one law for the step, the
-/// probes and the books). Verlet evaluates at the kicked v_n+1/2 = v_n +
-/// h/2 a_n (and ω alike), its end velocity being v_n+1 = v_n+1/2 + h/2 a_n+1:
-/// after a step the probes take v_n+1 − h/2 a_n+1, v_n+1/2 to round-off.
-/// Symplectic Euler, RK4 and ABM4 evaluate at the end state itself; so does
-/// every integrator before the first step and after a restart of the history
-/// (history_count 0: the next step starts from the law at the state's own v).
-template <int D>
-bool kicked_law(const DemModel<D>& m, const DemState<D>& s) {
-  return m.integrator == DemIntegrator::verlet && s.step > 0 && s.history_count > 0;
-}
-template <int D>
-double law_velocity(const DemModel<D>& m, const DemState<D>& s, int d, std::int32_t i) {
-  const auto k = static_cast<std::size_t>(i);
-  if (!kicked_law(m, s)) return s.v[static_cast<std::size_t>(d)][k];
-  return s.v[static_cast<std::size_t>(d)][k] - 0.5 * m.dt * s.hist_a[static_cast<std::size_t>(s.history_head)][static_cast<std::size_t>(d)][k];
-}
-template <int D>
-double law_spin(const DemModel<D>& m, const DemState<D>& s, int c, std::int32_t i) {
-  const auto k = static_cast<std::size_t>(i);
-  if (!kicked_law(m, s)) return s.w[static_cast<std::size_t>(c)][k];
-  return s.w[static_cast<std::size_t>(c)][k] - 0.5 * m.dt * s.hist_alpha[static_cast<std::size_t>(s.history_head)][static_cast<std::size_t>(c)][k];
-}
-
 template <int D>
 double plane_overlap(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, std::size_t p, double* rate) {
   const auto point = dem_detail::plane_point_at(m, s, p, s.time);
   double gap = 0, r = s.plane_speed[p];
-  for (int d = 0; d < D; ++d) gap += (s.x[d][i] - point[d]) * m.plane_normal[p][d];
-  if (rate)
-    for (int d = 0; d < D; ++d) r -= law_velocity(m, s, d, i) * m.plane_normal[p][d];
+  for (int d = 0; d < D; ++d) {
+    gap += (s.x[d][i] - point[d]) * m.plane_normal[p][d];
+    r -= s.v[d][i] * m.plane_normal[p][d];
+  }
   if (rate) *rate = r;
   return m.radius[i] - gap;
 }
@@ -56,9 +31,7 @@ double pair_overlap(const DemModel<D>& m, const DemState<D>& s, std::int32_t i, 
   }
   dist = std::sqrt(dist);
   double r = 0;
-  if (rate)
-    for (int d = 0; d < D; ++d)
-      r -= (law_velocity(m, s, d, j) - law_velocity(m, s, d, i)) * (dist > 0 ? dx[d] / dist : (d == 0 ? 1.0 : 0.0));
+  for (int d = 0; d < D; ++d) r -= (s.v[d][j] - s.v[d][i]) * (dist > 0 ? dx[d] / dist : (d == 0 ? 1.0 : 0.0));
   if (rate) *rate = r;
   return m.radius[i] + m.radius[j] - dist;
 }
@@ -293,13 +266,13 @@ double dem_pair_tangential_force(const DemModel<D>& m, const DemState<D>& s, std
       if (s.pair_i[c] == a && s.pair_j[c] == b)
         for (int d = 0; d < D; ++d) xi[d] = s.pair_xi[d][c];
     for (int d = 0; d < D; ++d) {
-      va[d] = law_velocity(m, s, d, a);
-      vb[d] = law_velocity(m, s, d, b);
+      va[d] = s.v[d][a];
+      vb[d] = s.v[d][b];
     }
     double wa[spin_components(D)], wb[spin_components(D)];
     for (int k = 0; k < spin_components(D); ++k) {
-      wa[k] = law_spin(m, s, k, a);
-      wb[k] = law_spin(m, s, k, b);
+      wa[k] = s.w[k][a];
+      wb[k] = s.w[k][b];
     }
     const dem_detail::PairParameters pp = dem_detail::pair_parameters(m, a, b);
     const dem_detail::ContactResult<D> r =
@@ -323,14 +296,14 @@ double dem_plane_tangential_force(const DemModel<D>& m, const DemState<D>& s, st
     double vi[D], xi[D], wi[spin_components(D)];
     const std::size_t slot = q * static_cast<std::size_t>(m.n) + static_cast<std::size_t>(i);
     for (int d = 0; d < D; ++d) {
-      vi[d] = law_velocity(m, s, d, i);
+      vi[d] = s.v[d][i];
       xi[d] = s.plane_xi[d][slot];
     }
-    for (int k = 0; k < spin_components(D); ++k) wi[k] = law_spin(m, s, k, i);
+    for (int k = 0; k < spin_components(D); ++k) wi[k] = s.w[k][i];
     const dem_detail::ContactResult<D> r = dem_detail::plane_contact<D>(m, i, q, overlap, s.plane_speed[q], vi, wi, 0.0, xi);
-    // The plane is the contact's first body: n is its normal (towards the
-    // particle) and F_t the force on the particle, whichever order the two
-    // are named in.
+    // The law's n runs from the plane to the particle and its F_t acts on the
+    // particle; the probe's n runs from the particle to the plane and reports
+    // the force on the plane: n, t and F_t all flip, the value does not.
     return reported_tangential<D>(r.normal, r.ft);
   }
 }
