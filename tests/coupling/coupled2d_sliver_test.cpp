@@ -54,12 +54,8 @@ Coupled2dDesc sliver_scene(const PlateDiscontinuity& hole, DemIntegrator integra
 }
 
 PlateDiscontinuity floor_void(double floor_y) {
-  PlateDiscontinuity hole;
-  hole.name = "v";
-  hole.kind = PlateDiscontinuity::Kind::hole;
-  hole.shape = PlateDiscontinuity::Shape::polygon;
-  hole.points = {{0.83, floor_y}, {1.17, floor_y}, {1.17, 0.7}, {0.83, 0.7}};
-  return hole;
+  return xfdem::testing::polygon(PlateDiscontinuity::Kind::hole,
+                                 {{0.83, floor_y}, {1.17, floor_y}, {1.17, 0.7}, {0.83, 0.7}}, "v");
 }
 
 /// The lightest node (> 0) and the boundary vertex nearest to it.

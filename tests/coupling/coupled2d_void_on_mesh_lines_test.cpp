@@ -33,12 +33,7 @@ namespace {
 using Points = std::vector<std::array<double, 2>>;
 
 PlateDiscontinuity polygon_void(const Points& points) {
-  PlateDiscontinuity q;
-  q.name = "v";
-  q.kind = PlateDiscontinuity::Kind::hole;
-  q.shape = PlateDiscontinuity::Shape::polygon;
-  q.points = points;
-  return q;
+  return xfdem::testing::polygon(PlateDiscontinuity::Kind::hole, points, "v");
 }
 
 /// The 2 m × 1 m plate of the scenes (E = 2 GPa), held at its bottom.

@@ -1,5 +1,9 @@
 // Pieces of the plate tests' scenes (tests/xfem, tests/coupling, tests/long).
 #pragma once
+#include <array>
+#include <utility>
+#include <vector>
+
 #include "xfdem/plate.hpp"
 
 namespace xfdem::testing {
@@ -27,6 +31,18 @@ inline PlateDiscontinuity circle(PlateDiscontinuity::Kind kind, double cx, doubl
   q.shape = PlateDiscontinuity::Shape::circle;
   q.centre[0] = cx, q.centre[1] = cy;
   q.radius = r;
+  return q;
+}
+
+/// A polygonal void or inclusion (an inclusion's material is left for the
+/// caller), named "hole" or "inclusion" unless `name` is given.
+inline PlateDiscontinuity polygon(PlateDiscontinuity::Kind kind, std::vector<std::array<double, 2>> points,
+                                  const char* name = nullptr) {
+  PlateDiscontinuity q;
+  q.name = name != nullptr ? name : kind == PlateDiscontinuity::Kind::hole ? "hole" : "inclusion";
+  q.kind = kind;
+  q.shape = PlateDiscontinuity::Shape::polygon;
+  q.points = std::move(points);
   return q;
 }
 

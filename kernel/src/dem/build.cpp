@@ -250,18 +250,20 @@ BuildResult size_world(const DemDesc<D>& desc, const dem_detail::ResolvedSizes& 
   // Bounded by the largest s g and the smallest factor over the particles' ζ√g.
   double omega2_t = 0, mode_zeta = zeta;
   if ((hertz || m.features.rotation) && desc.friction > 0 && omega2 > 0) {
+    // hertz: a body's (1/E)/(1/G) bound on S_t/S_n.
+    auto hertz_ratio = [](double nu) { return 2.0 * (1.0 - nu) / (2.0 - nu); };
     double stiffness_ratio = hertz ? 0.0 : m.tangential_ratio, g_max = 1.0;
     std::vector<double> turning;
     for (const auto& p : desc.particles) {
       const double g = 1.0 + p.mass * p.radius * p.radius / inertia_of(p);
       turning.push_back(g);
       g_max = std::max(g_max, g);
-      if (hertz) stiffness_ratio = std::max(stiffness_ratio, 2.0 * (1.0 - p.poisson_ratio) / (2.0 - p.poisson_ratio));
+      if (hertz) stiffness_ratio = std::max(stiffness_ratio, hertz_ratio(p.poisson_ratio));
     }
     if (hertz)
       for (const auto& pl : desc.planes)
         if (!std::isnan(pl.poisson_ratio))
-          stiffness_ratio = std::max(stiffness_ratio, 2.0 * (1.0 - pl.poisson_ratio) / (2.0 - pl.poisson_ratio));
+          stiffness_ratio = std::max(stiffness_ratio, hertz_ratio(pl.poisson_ratio));
     omega2_t = omega2 * stiffness_ratio * g_max;
     std::sort(turning.begin(), turning.end());
     turning.erase(std::unique(turning.begin(), turning.end()), turning.end());
